@@ -1,0 +1,163 @@
+"""Boundary conditions: ghost-cell filling for both cell families of the staggered scheme.
+
+A padded array ``w`` of shape ``(n_vars, n + 2 ng)`` holds ``n`` real cells at columns
+``ng .. ng + n - 1``. On the primary family (``staggered = False``) the domain boundary is a cell
+*face*; on the staggered family it is the *centre* of the first and last cell. The fill functions
+are module-level numba functions, so the generated kernels can import them.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numba import njit
+from numpy.typing import NDArray
+
+from conslaw.errors import ConfigError
+
+if TYPE_CHECKING:
+    from conslaw.model import Model
+
+
+@njit(cache=True)
+def periodic_left(w, n, ng, staggered, data):  # type: ignore[no-untyped-def]
+    """Left ghosts copy the last cells (period n on either family)."""
+    for g in range(1, ng + 1):
+        for v in range(w.shape[0]):
+            w[v, ng - g] = w[v, ng + n - g]
+
+
+@njit(cache=True)
+def periodic_right(w, n, ng, staggered, data):  # type: ignore[no-untyped-def]
+    """Right ghosts copy the first cells."""
+    for g in range(1, ng + 1):
+        for v in range(w.shape[0]):
+            w[v, ng + n - 1 + g] = w[v, ng + g - 1]
+
+
+@njit(cache=True)
+def outflow_left(w, n, ng, staggered, data):  # type: ignore[no-untyped-def]
+    """Zero gradient: left ghosts copy the first cell."""
+    for g in range(1, ng + 1):
+        for v in range(w.shape[0]):
+            w[v, ng - g] = w[v, ng]
+
+
+@njit(cache=True)
+def outflow_right(w, n, ng, staggered, data):  # type: ignore[no-untyped-def]
+    """Zero gradient: right ghosts copy the last cell."""
+    for g in range(1, ng + 1):
+        for v in range(w.shape[0]):
+            w[v, ng + n - 1 + g] = w[v, ng + n - 1]
+
+
+@njit(cache=True)
+def wall_left(w, n, ng, staggered, data):  # type: ignore[no-untyped-def]
+    """Mirror image across the left boundary, ``data[v]`` = sign of variable v (momentum -1)."""
+    for g in range(1, ng + 1):
+        source = ng + g if staggered else ng + g - 1
+        for v in range(w.shape[0]):
+            w[v, ng - g] = data[v] * w[v, source]
+
+
+@njit(cache=True)
+def wall_right(w, n, ng, staggered, data):  # type: ignore[no-untyped-def]
+    """Mirror image across the right boundary."""
+    for g in range(1, ng + 1):
+        source = ng + n - 1 - g if staggered else ng + n - g
+        for v in range(w.shape[0]):
+            w[v, ng + n - 1 + g] = data[v] * w[v, source]
+
+
+@njit(cache=True)
+def inflow_left(w, n, ng, staggered, data):  # type: ignore[no-untyped-def]
+    """Left ghosts hold the fixed state ``data``."""
+    for g in range(1, ng + 1):
+        for v in range(w.shape[0]):
+            w[v, ng - g] = data[v]
+
+
+@njit(cache=True)
+def inflow_right(w, n, ng, staggered, data):  # type: ignore[no-untyped-def]
+    """Right ghosts hold the fixed state ``data``."""
+    for g in range(1, ng + 1):
+        for v in range(w.shape[0]):
+            w[v, ng + n - 1 + g] = data[v]
+
+
+@dataclass(frozen=True)
+class BoundaryCondition:
+    """One kind of boundary condition.
+
+    Attributes
+    ----------
+    name, description : str
+        Registry name and one-line description.
+    fill_left, fill_right : callable
+        Numba functions ``fill(w, n, ng, staggered, data)`` writing the ghost cells in place.
+    periodic : bool
+        Periodic conditions must be used on both sides and change the staggered cell count.
+    options : tuple of str
+        Keys this condition accepts in a scene (``inflow``: ``state``).
+    """
+
+    name: str
+    description: str
+    fill_left: Callable[..., None]
+    fill_right: Callable[..., None]
+    periodic: bool = False
+    options: tuple[str, ...] = ()
+    data_builder: Callable[[Model, Mapping[str, Any]], NDArray[np.float64]] | None = field(
+        default=None, compare=False
+    )
+
+    def data(self, model: Model, options: Mapping[str, Any]) -> NDArray[np.float64]:
+        """The float array handed to the fill functions."""
+        if self.data_builder is None:
+            return np.zeros(1, dtype=np.float64)
+        return self.data_builder(model, options)
+
+
+def _wall_data(model: Model, options: Mapping[str, Any]) -> NDArray[np.float64]:
+    return np.array(model.reflect_signs, dtype=np.float64)
+
+
+def _inflow_data(model: Model, options: Mapping[str, Any]) -> NDArray[np.float64]:
+    state = options.get("state")
+    if not isinstance(state, Sequence) or isinstance(state, str) or len(state) != model.n_vars:
+        raise ConfigError(
+            f"boundary 'inflow' needs state = a list of {model.n_vars} numbers "
+            f"({', '.join(model.variables)}), got {state!r}"
+        )
+    values = np.array(state, dtype=np.float64)
+    if not np.all(np.isfinite(values)):
+        raise ConfigError(f"boundary 'inflow' state must be finite, got {state!r}")
+    if not bool(model.is_admissible(values[:, None])[0]):
+        raise ConfigError(f"boundary 'inflow' state {state!r} is not admissible for '{model.name}'")
+    return values
+
+
+def builtin_boundary_conditions() -> list[BoundaryCondition]:
+    """The boundary conditions that ship with conslaw."""
+    return [
+        BoundaryCondition("periodic", "periodic (both sides)", periodic_left, periodic_right, True),
+        BoundaryCondition("outflow", "zero-gradient outflow", outflow_left, outflow_right),
+        BoundaryCondition(
+            "wall",
+            "reflective wall (momentum mirrored)",
+            wall_left,
+            wall_right,
+            data_builder=_wall_data,
+        ),
+        BoundaryCondition(
+            "inflow",
+            "fixed inflow state (option: state = [...])",
+            inflow_left,
+            inflow_right,
+            options=("state",),
+            data_builder=_inflow_data,
+        ),
+    ]

@@ -1,0 +1,171 @@
+"""The ``conslaw`` command: ``list``, ``show``, ``run``.
+
+Errors in the input become one line on stderr and exit code 2, without a traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any, NoReturn
+
+from conslaw.errors import ConslawError
+
+EXIT_INPUT = 2
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> NoReturn:
+        # argparse prints usage + message; we print one line (and keep exit code 2).
+        sys.stderr.write(f"conslaw: error: {message} (see 'conslaw --help')\n")
+        raise SystemExit(EXIT_INPUT)
+
+
+def _overrides(pairs: Sequence[str]) -> dict[str, Any]:
+    from conslaw.config import parse_value
+    from conslaw.errors import ConfigError
+
+    result: dict[str, Any] = {}
+    for pair in pairs:
+        key, separator, value = pair.partition("=")
+        if not separator or not key.strip():
+            raise ConfigError(f"--set expects key=value, got '{pair}'")
+        result[key.strip()] = parse_value(value.strip())
+    return result
+
+
+def _command_list(args: argparse.Namespace) -> int:
+    from conslaw import registry
+    from conslaw.initial import INITIAL_KINDS
+
+    sections = [
+        ("models", registry.models),
+        ("schemes", registry.schemes),
+        ("reconstructors", registry.reconstructors),
+        ("boundaries", registry.boundaries),
+        ("scenes", registry.scenes),
+    ]
+    titles = {"boundaries": "boundary conditions"}
+    for kind, entries in sections:
+        names = entries.names()
+        print(f"{titles.get(kind, kind)} ({len(names)}):")
+        for name in names:
+            print(f"  {name:<20} {registry.description_of(kind, name)}")
+    print(f"initial conditions ({len(INITIAL_KINDS)}):")
+    for name, (_, _, description) in INITIAL_KINDS.items():
+        print(f"  {name:<20} {description}")
+    return 0
+
+
+def _command_show(args: argparse.Namespace) -> int:
+    from conslaw import tomlwrite
+    from conslaw.config import load_scene
+
+    scene = load_scene(args.scene, _overrides(args.set))
+    sys.stdout.write(tomlwrite.dumps(scene.to_table()))
+    return 0
+
+
+class _ProgressBar:
+    """A one-line progress bar on stdout, only when stdout is a terminal."""
+
+    def __init__(self, t_end: float) -> None:
+        self.t_end = t_end
+        self.enabled = sys.stdout.isatty()
+        self.last = 0.0
+
+    def __call__(self, t: float, steps: int) -> None:
+        now = time.monotonic()
+        if not self.enabled or (now - self.last < 0.1 and t < self.t_end):
+            return
+        self.last = now
+        fraction = min(t / self.t_end, 1.0) if self.t_end > 0 else 1.0
+        filled = int(30 * fraction)
+        sys.stdout.write(f"\r[{'#' * filled}{'.' * (30 - filled)}] t={t:.4g} steps={steps}")
+        sys.stdout.flush()
+
+    def close(self) -> None:
+        if self.enabled:
+            sys.stdout.write("\n")
+
+
+def _command_run(args: argparse.Namespace) -> int:
+    from conslaw.config import load_scene
+    from conslaw.io import prepare_output_dir, write_run
+    from conslaw.simulation import simulate
+
+    scene = load_scene(args.scene, _overrides(args.set))
+    if args.no_plot:
+        from dataclasses import replace
+
+        scene = replace(scene, plot=False)
+    out = Path(args.out) if args.out else Path("conslaw-output") / scene.name
+    prepare_output_dir(out)
+    bar = _ProgressBar(scene.t_end)
+    try:
+        result = simulate(scene, progress=bar)
+    finally:
+        bar.close()
+    files = write_run(result, out)
+    print(
+        f"{scene.name}: {scene.model}, {scene.scheme}, {scene.reconstructor}, "
+        f"N={scene.n_cells}, t={result.final.t:g}, {result.steps} steps, "
+        f"solve {result.solve_seconds:.3f} s"
+    )
+    for state, error in zip(result.states, result.errors, strict=True):
+        if error is not None:
+            print(
+                f"  t={state.t:g}: error in {result.model.variables[0]} against exact cell "
+                f"averages  L1={error.l1:.4e}  L2={error.l2:.4e}  Linf={error.linf:.4e}"
+            )
+    drift = ", ".join(
+        f"{name} {value:+.2e}"
+        for name, value in zip(result.model.variables, result.mass_drift, strict=True)
+    )
+    print(f"  relative change of totals: {drift}")
+    for path in files:
+        print(f"  wrote {path}")
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser (exposed for the documentation)."""
+    parser = _Parser(prog="conslaw", description="Hyperbolic conservation laws in 1D.")
+    commands = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    commands.add_parser("list", help="print every registered name with a one-line description")
+    for name, text in (("run", "run a scene"), ("show", "print a scene with defaults filled in")):
+        sub = commands.add_parser(name, help=text)
+        sub.add_argument("scene", help="built-in scene name (conslaw list) or path to a .toml file")
+        sub.add_argument(
+            "--set",
+            action="append",
+            default=[],
+            metavar="KEY=VALUE",
+            help="override a scene key, e.g. --set n_cells=1600 --set boundary.left=wall",
+        )
+        if name == "run":
+            sub.add_argument("--out", help="output folder (default conslaw-output/SCENE)")
+            sub.add_argument("--no-plot", action="store_true", help="do not write the PNG")
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``conslaw`` console script."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    handlers = {"list": _command_list, "show": _command_show, "run": _command_run}
+    try:
+        return handlers[args.command](args)
+    except ConslawError as error:
+        sys.stderr.write(f"conslaw: error: {error}\n")
+        return EXIT_INPUT
+    except KeyboardInterrupt:
+        sys.stderr.write("conslaw: interrupted\n")
+        return 130
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,310 @@
+"""Scene files: TOML, validated into a frozen :class:`Scene`.
+
+A scene names only what it needs; :data:`DEFAULTS` fills the rest. Unknown keys are errors with a
+"did you mean". Every top-level key can be overridden (``conslaw run SCENE --set n_cells=800``,
+``conslaw.run("burgers-sine", n_cells=800)``); nested keys with a dot (``boundary.left=wall``).
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from conslaw import registry
+from conslaw.errors import ConfigError, unknown_name_message
+from conslaw.initial import InitialCondition
+
+REQUIRED = object()
+
+#: Every top-level scene key with its default (REQUIRED: the scene must give it).
+DEFAULTS: dict[str, Any] = {
+    "description": "",
+    "model": REQUIRED,
+    "parameters": {},
+    "scheme": "nessyahu-tadmor",
+    "reconstructor": "mc",
+    "cfl": 0.45,
+    "n_cells": REQUIRED,
+    "x_min": REQUIRED,
+    "x_max": REQUIRED,
+    "t_end": REQUIRED,
+    "output_times": [],
+    "exact": True,
+    "boundary": {"left": "outflow", "right": "outflow"},
+    "initial": REQUIRED,
+    "output": {"formats": ["npz"], "plot": True},
+}
+
+#: One-line meaning of every top-level key (used by ``conslaw show --keys`` and the docs).
+KEY_HELP: dict[str, str] = {
+    "description": "one line shown by `conslaw list`",
+    "model": "registered model name (`conslaw list`)",
+    "parameters": "table of the model's parameters (e.g. g for shallow water)",
+    "scheme": "registered scheme name",
+    "reconstructor": "slope reconstruction: none, minmod, superbee, vanleer, mc, weno3, weno5",
+    "cfl": "target Courant number, 0 < cfl < 0.5 (paper eq. 17)",
+    "n_cells": "number of cells, integer >= 4",
+    "x_min": "left end of the domain",
+    "x_max": "right end of the domain",
+    "t_end": "final time",
+    "output_times": "times (<= t_end) at which states are saved; t_end is always saved",
+    "exact": "compare with the model's exact solution when it has one",
+    "boundary": "table: left, right = a boundary name or { kind = ..., options }",
+    "initial": "table: kind (piecewise-constant, sine) and its options",
+    "output": "table: formats (list, 'npz'), plot (bool)",
+}
+
+OUTPUT_FORMATS = ("npz",)
+OUTPUT_KEYS = ("formats", "plot")
+
+
+@dataclass(frozen=True)
+class BoundarySide:
+    """A boundary condition name and its options, as written in the scene."""
+
+    kind: str
+    options: Mapping[str, Any] = field(default_factory=dict)
+
+    def to_toml(self) -> Any:
+        """``"name"`` or an inline table ``{ kind = "name", ... }``."""
+        return {"kind": self.kind, **self.options} if self.options else self.kind
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A validated scene: everything a run needs, with defaults filled in."""
+
+    name: str
+    description: str
+    model: str
+    parameters: Mapping[str, Any]
+    scheme: str
+    reconstructor: str
+    cfl: float
+    n_cells: int
+    x_min: float
+    x_max: float
+    t_end: float
+    output_times: tuple[float, ...]
+    exact: bool
+    left: BoundarySide
+    right: BoundarySide
+    initial: InitialCondition
+    output_formats: tuple[str, ...]
+    plot: bool
+
+    def to_table(self) -> dict[str, Any]:
+        """The resolved scene as a TOML-ready mapping (written next to every output)."""
+        return {
+            "description": self.description,
+            "model": self.model,
+            "scheme": self.scheme,
+            "reconstructor": self.reconstructor,
+            "cfl": self.cfl,
+            "n_cells": self.n_cells,
+            "x_min": self.x_min,
+            "x_max": self.x_max,
+            "t_end": self.t_end,
+            "output_times": list(self.output_times),
+            "exact": self.exact,
+            "parameters": dict(self.parameters),
+            "boundary": {"left": self.left.to_toml(), "right": self.right.to_toml()},
+            "initial": {"kind": self.initial.kind, **self.initial.options},
+            "output": {"formats": list(self.output_formats), "plot": self.plot},
+        }
+
+
+def parse_value(text: str) -> Any:
+    """A ``--set`` value: a TOML value (number, bool, list, string in quotes) or a bare string."""
+    try:
+        return tomllib.loads(f"value = {text}")["value"]
+    except tomllib.TOMLDecodeError:
+        return text
+
+
+def scene_path(name_or_path: str | Path) -> tuple[str, Path]:
+    """Resolve a built-in scene name or a path to a ``.toml`` file."""
+    text = str(name_or_path)
+    if text in registry.scenes:
+        return text, registry.scenes.get(text)
+    path = Path(text)
+    if path.suffix == ".toml":
+        if not path.is_file():
+            raise ConfigError(f"scene file '{path}' does not exist")
+        return path.stem, path
+    raise ConfigError(unknown_name_message("scene", text, registry.scenes.names()))
+
+
+def read_scene_file(path: Path) -> dict[str, Any]:
+    """Parse a scene file; malformed TOML is a ConfigError naming the file."""
+    try:
+        with open(path, "rb") as handle:
+            return tomllib.load(handle)
+    except tomllib.TOMLDecodeError as error:
+        raise ConfigError(f"scene file '{path}' is not valid TOML: {error}") from None
+    except OSError as error:
+        raise ConfigError(f"cannot read scene file '{path}': {error.strerror}") from None
+
+
+def apply_overrides(table: dict[str, Any], overrides: Mapping[str, Any]) -> dict[str, Any]:
+    """Copy of ``table`` with ``overrides`` (keys may be dotted: ``boundary.left``)."""
+    result = {k: (dict(v) if isinstance(v, Mapping) else v) for k, v in table.items()}
+    for dotted, value in overrides.items():
+        parts = str(dotted).split(".")
+        if parts[0] not in DEFAULTS:
+            raise ConfigError(unknown_name_message("scene key", parts[0], DEFAULTS))
+        target = result
+        for part in parts[:-1]:
+            existing = target.get(part)
+            if existing is None:
+                existing = dict(DEFAULTS.get(part, {})) if target is result else {}
+            if not isinstance(existing, Mapping):
+                raise ConfigError(f"scene key '{dotted}': '{part}' is not a table")
+            target[part] = dict(existing)
+            target = target[part]
+        target[parts[-1]] = value
+    return result
+
+
+def _number(table: Mapping[str, Any], key: str) -> float:
+    value = table[key]
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise ConfigError(f"scene key '{key}': expected a number, got {value!r}")
+    if not math.isfinite(value):
+        raise ConfigError(f"scene key '{key}': must be finite, got {value!r}")
+    return float(value)
+
+
+def _name(table: Mapping[str, Any], key: str, known: registry.Registry[Any]) -> str:
+    value = table[key]
+    if not isinstance(value, str):
+        raise ConfigError(f"scene key '{key}': expected a name, got {value!r}")
+    known.get(value)  # raises with the allowed names
+    return value
+
+
+def _boundary_side(value: Any, side: str) -> BoundarySide:
+    if isinstance(value, str):
+        kind, options = value, {}
+    elif isinstance(value, Mapping) and "kind" in value:
+        kind = value["kind"]
+        options = {k: v for k, v in value.items() if k != "kind"}
+    else:
+        raise ConfigError(
+            f"boundary.{side}: expected a name or {{ kind = ..., ... }}, got {value!r}; "
+            f"allowed: {', '.join(registry.boundaries.names())}"
+        )
+    if not isinstance(kind, str):
+        raise ConfigError(f"boundary.{side}: expected a name, got {kind!r}")
+    condition = registry.boundaries.get(kind)
+    for key in options:
+        if key not in condition.options:
+            raise ConfigError(
+                unknown_name_message(f"option of boundary '{kind}'", key, condition.options)
+                if condition.options
+                else f"boundary.{side}: '{kind}' takes no options, got '{key}'"
+            )
+    return BoundarySide(kind, options)
+
+
+def _check_table(value: Any, key: str, allowed: tuple[str, ...]) -> Mapping[str, Any]:
+    if not isinstance(value, Mapping):
+        raise ConfigError(f"scene key '{key}': expected a table, got {value!r}")
+    for inner in value:
+        if inner not in allowed:
+            raise ConfigError(unknown_name_message(f"key in [{key}]", inner, allowed))
+    return value
+
+
+def validate(name: str, raw: Mapping[str, Any]) -> Scene:
+    """Validate a raw scene mapping (after overrides) into a :class:`Scene`."""
+    for key in raw:
+        if key not in DEFAULTS:
+            raise ConfigError(unknown_name_message("scene key", key, DEFAULTS))
+    table = dict(DEFAULTS)
+    table.update(raw)
+    for key, value in table.items():
+        if value is REQUIRED:
+            raise ConfigError(f"scene key '{key}' is required ({KEY_HELP[key]})")
+
+    model = _name(table, "model", registry.models)
+    scheme = _name(table, "scheme", registry.schemes)
+    reconstructor = _name(table, "reconstructor", registry.reconstructors)
+    if not isinstance(table["description"], str):
+        raise ConfigError("scene key 'description': expected a string")
+    parameters = table["parameters"]
+    if not isinstance(parameters, Mapping):
+        raise ConfigError(f"scene key 'parameters': expected a table, got {parameters!r}")
+
+    cfl = _number(table, "cfl")
+    if not 0.0 < cfl < 0.5:
+        raise ConfigError(f"scene key 'cfl': must be in (0, 0.5) (paper eq. 17), got {cfl}")
+    n_cells = table["n_cells"]
+    if isinstance(n_cells, bool) or not isinstance(n_cells, int) or n_cells < 4:
+        raise ConfigError(f"scene key 'n_cells': expected an integer >= 4, got {n_cells!r}")
+    x_min, x_max = _number(table, "x_min"), _number(table, "x_max")
+    if not x_max > x_min:
+        raise ConfigError(f"scene keys 'x_min', 'x_max': need x_min < x_max, got {x_min}, {x_max}")
+    t_end = _number(table, "t_end")
+    if not t_end > 0.0:
+        raise ConfigError(f"scene key 't_end': must be > 0, got {t_end}")
+    times_raw = table["output_times"]
+    if not isinstance(times_raw, list):
+        raise ConfigError(
+            f"scene key 'output_times': expected a list of numbers, got {times_raw!r}"
+        )
+    times = sorted({_number({"output_times": t}, "output_times") for t in times_raw} | {t_end})
+    if times[0] < 0.0 or times[-1] > t_end:
+        raise ConfigError(f"scene key 'output_times': every time must be in [0, t_end={t_end}]")
+    if not isinstance(table["exact"], bool):
+        raise ConfigError(f"scene key 'exact': expected true or false, got {table['exact']!r}")
+
+    boundary = _check_table(table["boundary"], "boundary", ("left", "right"))
+    left = _boundary_side(boundary.get("left", "outflow"), "left")
+    right = _boundary_side(boundary.get("right", "outflow"), "right")
+    if (left.kind == "periodic") != (right.kind == "periodic"):
+        raise ConfigError(
+            f"boundary: 'periodic' must be used on both sides, got left='{left.kind}', "
+            f"right='{right.kind}'"
+        )
+    initial = InitialCondition.from_table(table["initial"])
+    output = _check_table(table["output"], "output", OUTPUT_KEYS)
+    formats = output.get("formats", ["npz"])
+    if not isinstance(formats, list) or any(f not in OUTPUT_FORMATS for f in formats):
+        raise ConfigError(
+            f"output.formats: expected a list of {', '.join(OUTPUT_FORMATS)}, got {formats!r}"
+        )
+    plot = output.get("plot", True)
+    if not isinstance(plot, bool):
+        raise ConfigError(f"output.plot: expected true or false, got {plot!r}")
+    return Scene(
+        name=name,
+        description=table["description"],
+        model=model,
+        parameters=dict(parameters),
+        scheme=scheme,
+        reconstructor=reconstructor,
+        cfl=cfl,
+        n_cells=n_cells,
+        x_min=x_min,
+        x_max=x_max,
+        t_end=t_end,
+        output_times=tuple(times),
+        exact=table["exact"],
+        left=left,
+        right=right,
+        initial=initial,
+        output_formats=tuple(formats),
+        plot=plot,
+    )
+
+
+def load_scene(name_or_path: str | Path, overrides: Mapping[str, Any] | None = None) -> Scene:
+    """Read, override and validate a scene (a built-in name or a ``.toml`` path)."""
+    name, path = scene_path(name_or_path)
+    raw = read_scene_file(path)
+    return validate(name, apply_overrides(raw, overrides or {}))

@@ -1,0 +1,34 @@
+"""The project's exception hierarchy.
+
+Library code raises these; only the command-line interface turns them into a one-line message and
+exit code 2 (see :mod:`conslaw.cli`).
+"""
+
+from __future__ import annotations
+
+import difflib
+from collections.abc import Iterable
+
+
+class ConslawError(Exception):
+    """Base class of every error conslaw raises on purpose."""
+
+
+class ConfigError(ConslawError, ValueError):
+    """Invalid input: an unknown name, a value out of range, a malformed scene file."""
+
+
+class InadmissibleStateError(ConslawError, FloatingPointError):
+    """The solution left the admissible set (NaN, inf, negative depth) during a run."""
+
+
+class SchemeBreakdownError(ConslawError, ArithmeticError):
+    """A scheme cannot continue (time step below its floor, crossing Lagrangian nodes, ...)."""
+
+
+def unknown_name_message(kind: str, name: str, allowed: Iterable[str]) -> str:
+    """One line naming the unknown ``name``, the allowed values and a close match if any."""
+    allowed = sorted(allowed)
+    close = difflib.get_close_matches(str(name), allowed, n=1)
+    hint = f"; did you mean '{close[0]}'?" if close else ""
+    return f"unknown {kind} '{name}'; allowed: {', '.join(allowed)}{hint}"

@@ -1,0 +1,136 @@
+"""Initial conditions: exact cell averages of the initial data on a grid.
+
+Kinds (scene table ``[initial]``, key ``kind``):
+
+``piecewise-constant``
+    ``breakpoints`` (increasing list), ``states`` (one more entry than breakpoints; a number for a
+    scalar model, else a list with one number per conserved variable).
+``sine``
+    ``u0 = mean + amplitude sin(2 pi wavenumber (x - x_min) / L)``, scalar models only.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from conslaw.errors import ConfigError, unknown_name_message
+from conslaw.grid import Grid
+
+if TYPE_CHECKING:
+    from conslaw.model import Model
+
+Array = NDArray[np.float64]
+
+#: kind -> (required keys, optional keys with defaults, one-line description)
+INITIAL_KINDS: dict[str, tuple[tuple[str, ...], dict[str, Any], str]] = {
+    "piecewise-constant": (
+        ("breakpoints", "states"),
+        {},
+        "constant states separated at breakpoints (Riemann problems, dam breaks)",
+    ),
+    "sine": (
+        ("mean", "amplitude"),
+        {"wavenumber": 1},
+        "u0 = mean + amplitude*sin(2*pi*wavenumber*(x - x_min)/L), scalar models",
+    ),
+}
+
+
+def _number(value: Any, key: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise ConfigError(f"initial.{key}: expected a number, got {value!r}")
+    if not np.isfinite(value):
+        raise ConfigError(f"initial.{key}: must be finite, got {value!r}")
+    return float(value)
+
+
+@dataclass(frozen=True)
+class InitialCondition:
+    """A validated initial condition: ``kind`` and its options."""
+
+    kind: str
+    options: Mapping[str, Any] = field(default_factory=dict)
+
+    @classmethod
+    def from_table(cls, table: Mapping[str, Any]) -> InitialCondition:
+        """Validate a scene's ``[initial]`` table (unknown kinds and keys are errors)."""
+        if not isinstance(table, Mapping):
+            raise ConfigError(f"initial: expected a table, got {table!r}")
+        kind = table.get("kind")
+        if kind is None:
+            raise ConfigError(
+                f"initial.kind is required; allowed: {', '.join(sorted(INITIAL_KINDS))}"
+            )
+        if kind not in INITIAL_KINDS:
+            raise ConfigError(unknown_name_message("initial.kind", str(kind), INITIAL_KINDS))
+        required, defaults, _ = INITIAL_KINDS[kind]
+        allowed = {"kind", *required, *defaults}
+        for key in table:
+            if key not in allowed:
+                raise ConfigError(unknown_name_message(f"key in [initial] ({kind})", key, allowed))
+        for key in required:
+            if key not in table:
+                raise ConfigError(f"initial.{key} is required for kind '{kind}'")
+        options = {**defaults, **{k: v for k, v in table.items() if k != "kind"}}
+        return cls(str(kind), options)
+
+    def cell_averages(self, grid: Grid, model: Model) -> Array:
+        """Exact cell averages of the initial data on the primary grid, shape (n_vars, n)."""
+        if self.kind == "piecewise-constant":
+            return self._piecewise_constant(grid, model)
+        return self._sine(grid, model)
+
+    def _piecewise_constant(self, grid: Grid, model: Model) -> Array:
+        breakpoints_raw = self.options["breakpoints"]
+        states_raw = self.options["states"]
+        if not isinstance(breakpoints_raw, list) or not isinstance(states_raw, list):
+            raise ConfigError("initial.breakpoints and initial.states must be lists")
+        breakpoints = np.array([_number(b, "breakpoints") for b in breakpoints_raw])
+        if breakpoints.size and np.any(np.diff(breakpoints) <= 0):
+            raise ConfigError(f"initial.breakpoints must be increasing, got {breakpoints_raw}")
+        if len(states_raw) != breakpoints.size + 1:
+            raise ConfigError(
+                f"initial.states needs {breakpoints.size + 1} entries (one more than "
+                f"breakpoints), got {len(states_raw)}"
+            )
+        states = np.empty((model.n_vars, len(states_raw)))
+        for k, entry in enumerate(states_raw):
+            values = entry if isinstance(entry, list) else [entry]
+            if len(values) != model.n_vars:
+                raise ConfigError(
+                    f"initial.states[{k}]: expected {model.n_vars} numbers "
+                    f"({', '.join(model.variables)}), got {entry!r}"
+                )
+            states[:, k] = [_number(v, f"states[{k}]") for v in values]
+        admissible = model.is_admissible(states)
+        if not admissible.all():
+            k = int((~admissible).nonzero()[0][0])
+            raise ConfigError(
+                f"initial.states[{k}] = {states_raw[k]!r} is not an admissible state of "
+                f"'{model.name}'"
+            )
+        edges = grid.edges
+        # Overlap length of every cell with every constant piece: exact averages.
+        bounds = np.concatenate([[-np.inf], breakpoints, [np.inf]])
+        lo = np.clip(edges[:-1, None], bounds[None, :-1], bounds[None, 1:])
+        hi = np.clip(edges[1:, None], bounds[None, :-1], bounds[None, 1:])
+        weights = (hi - lo) / grid.dx
+        return np.ascontiguousarray(states @ weights.T)
+
+    def _sine(self, grid: Grid, model: Model) -> Array:
+        if model.n_vars != 1:
+            raise ConfigError(f"initial.kind 'sine' needs a scalar model; '{model.name}' is not")
+        mean = _number(self.options["mean"], "mean")
+        amplitude = _number(self.options["amplitude"], "amplitude")
+        wavenumber = self.options["wavenumber"]
+        if isinstance(wavenumber, bool) or not isinstance(wavenumber, int) or wavenumber < 1:
+            raise ConfigError(f"initial.wavenumber: expected an integer >= 1, got {wavenumber!r}")
+        k = 2.0 * np.pi * wavenumber / grid.length
+        edges = grid.edges
+        antiderivative = mean * edges - amplitude / k * np.cos(k * (edges - grid.x_min))
+        return (np.diff(antiderivative) / grid.dx)[None, :]

@@ -1,0 +1,103 @@
+"""Template: compiled loops over cells of a model's pointwise functions.
+
+Generated per model by :func:`conslaw.kernels.codegen.model_array_kernels`; do not import directly.
+"""
+
+import numpy as np
+from numba import njit
+
+# --- bindings ---
+from conslaw.kernels.placeholders import (
+    admissible_point as _admissible_point,
+)
+from conslaw.kernels.placeholders import (
+    flux_point as _flux_point,
+)
+from conslaw.kernels.placeholders import (
+    jacobian_point as _jacobian_point,
+)
+from conslaw.kernels.placeholders import (
+    max_speed_point as _max_speed_point,
+)
+from conslaw.kernels.placeholders import (
+    source_point as _source_point,
+)
+
+HAS_SOURCE = False
+# --- end bindings ---
+
+
+@njit(cache=True)
+def flux_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
+    nv = q.shape[0]
+    state = np.empty(nv)
+    result = np.empty(nv)
+    coefficients = np.empty(aux.shape[0])
+    for i in range(q.shape[1]):
+        for v in range(nv):
+            state[v] = q[v, i]
+        for k in range(aux.shape[0]):
+            coefficients[k] = aux[k, i]
+        _flux_point(state, coefficients, params, result)
+        for v in range(nv):
+            out[v, i] = result[v]
+
+
+@njit(cache=True)
+def jacobian_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
+    nv = q.shape[0]
+    state = np.empty(nv)
+    matrix = np.empty((nv, nv))
+    coefficients = np.empty(aux.shape[0])
+    for i in range(q.shape[1]):
+        for v in range(nv):
+            state[v] = q[v, i]
+        for k in range(aux.shape[0]):
+            coefficients[k] = aux[k, i]
+        _jacobian_point(state, coefficients, params, matrix)
+        for r in range(nv):
+            for c in range(nv):
+                out[r, c, i] = matrix[r, c]
+
+
+@njit(cache=True)
+def max_speed_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
+    nv = q.shape[0]
+    state = np.empty(nv)
+    coefficients = np.empty(aux.shape[0])
+    for i in range(q.shape[1]):
+        for v in range(nv):
+            state[v] = q[v, i]
+        for k in range(aux.shape[0]):
+            coefficients[k] = aux[k, i]
+        out[i] = _max_speed_point(state, coefficients, params)
+
+
+@njit(cache=True)
+def source_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
+    nv = q.shape[0]
+    state = np.empty(nv)
+    result = np.zeros(nv)
+    coefficients = np.empty(aux.shape[0])
+    for i in range(q.shape[1]):
+        for v in range(nv):
+            state[v] = q[v, i]
+        for k in range(aux.shape[0]):
+            coefficients[k] = aux[k, i]
+        if HAS_SOURCE:
+            _source_point(state, coefficients, params, result)
+        for v in range(nv):
+            out[v, i] = result[v]
+
+
+@njit(cache=True)
+def admissible_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
+    nv = q.shape[0]
+    state = np.empty(nv)
+    coefficients = np.empty(aux.shape[0])
+    for i in range(q.shape[1]):
+        for v in range(nv):
+            state[v] = q[v, i]
+        for k in range(aux.shape[0]):
+            coefficients[k] = aux[k, i]
+        out[i] = _admissible_point(state, coefficients, params)

@@ -1,0 +1,166 @@
+"""Generation of compiled kernels from templates.
+
+numba caches compiled code on disk only for functions defined at module level in a real source file,
+not for closures or for functions taking other compiled functions as arguments. So a kernel that is
+generic over the model, the reconstructor and the boundary conditions is produced by writing a small
+module per combination: the template's text with its binding block replaced by imports of the chosen
+module-level functions. The file name carries a hash of the template and of every bound module's
+source, so editing the physics invalidates the cache.
+
+Cache folder: ``$CONSLAW_CACHE_DIR``, else ``$XDG_CACHE_HOME/conslaw/kernels``, else
+``~/.cache/conslaw/kernels``; a temporary folder if none of these is writable.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib
+import importlib.util
+import inspect
+import os
+import sys
+import tempfile
+from collections.abc import Callable, Mapping
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+_TEMPLATE_DIR = Path(__file__).resolve().parent
+_BEGIN = "# --- bindings ---"
+_END = "# --- end bindings ---"
+_loaded: dict[str, ModuleType] = {}
+
+
+def cache_dir() -> Path:
+    """Folder of the generated kernel modules (created if needed)."""
+    candidates = []
+    if os.environ.get("CONSLAW_CACHE_DIR"):
+        candidates.append(Path(os.environ["CONSLAW_CACHE_DIR"]))
+    xdg = os.environ.get("XDG_CACHE_HOME")
+    candidates.append((Path(xdg) if xdg else Path.home() / ".cache") / "conslaw" / "kernels")
+    candidates.append(Path(tempfile.gettempdir()) / f"conslaw-kernels-{os.getuid()}")
+    for folder in candidates:
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+            probe = folder / f".probe-{os.getpid()}"
+            probe.write_text("")
+            probe.unlink()
+            return folder
+        except OSError:
+            continue
+    raise OSError("no writable folder for conslaw's compiled kernels; set CONSLAW_CACHE_DIR")
+
+
+def import_path(function: Callable[..., Any]) -> tuple[str, str]:
+    """``(module, name)`` under which a compiled function can be imported.
+
+    Raises
+    ------
+    TypeError
+        If the function is not reachable as a module-level attribute (a closure, a lambda, ...).
+    """
+    python_function = getattr(function, "py_func", function)
+    module_name = python_function.__module__
+    name = python_function.__name__
+    module = importlib.import_module(module_name)
+    if getattr(module, name, None) is not function:
+        raise TypeError(
+            f"{module_name}.{name} must be a module-level numba function (njit) to be compiled "
+            "into a kernel"
+        )
+    return module_name, name
+
+
+def _module_source(module_name: str) -> str:
+    module = importlib.import_module(module_name)
+    try:
+        return inspect.getsource(module)
+    except (OSError, TypeError):
+        return module_name
+
+
+def generate(
+    template: str,
+    bindings: Mapping[str, Callable[..., Any]],
+    constants: Mapping[str, bool | int | float] | None = None,
+) -> ModuleType:
+    """Write (once) and import the module of ``template`` with ``bindings`` in place.
+
+    Parameters
+    ----------
+    template : str
+        File name of a template in this package (e.g. ``"nt_template.py"``).
+    bindings : mapping
+        Placeholder name -> module-level compiled function.
+    constants : mapping, optional
+        Module-level constants (compile-time for numba: dead branches are removed).
+    """
+    constants = dict(constants or {})
+    text = (_TEMPLATE_DIR / template).read_text()
+    head, rest = text.split(_BEGIN, 1)
+    _, tail = rest.split(_END, 1)
+    lines = [_BEGIN]
+    sources = [text]
+    for placeholder, function in sorted(bindings.items()):
+        module_name, name = import_path(function)
+        lines.append(f"from {module_name} import {name} as {placeholder}")
+        sources.append(_module_source(module_name))
+    for key, value in sorted(constants.items()):
+        lines.append(f"{key} = {value!r}")
+    lines.append(_END)
+    body = head + "\n".join(lines) + tail
+    digest = hashlib.sha256("\0".join([body, *sources]).encode()).hexdigest()[:20]
+    module_name = f"conslaw_kernel_{Path(template).stem}_{digest}"
+    if module_name in _loaded:
+        return _loaded[module_name]
+    path = cache_dir() / f"{module_name}.py"
+    if not path.exists() or path.read_text() != body:
+        temporary = path.with_suffix(f".{os.getpid()}.tmp")
+        temporary.write_text(body)
+        os.replace(temporary, path)
+    spec = importlib.util.spec_from_file_location(module_name, path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    # numba's cache re-imports the module by name when it loads a cached function.
+    sys.modules[module_name] = module
+    spec.loader.exec_module(module)
+    _loaded[module_name] = module
+    return module
+
+
+def _model_bindings(model_class: type) -> dict[str, Callable[..., Any]]:
+    from conslaw.kernels import placeholders
+
+    return {
+        "_flux_point": model_class.flux_point,
+        "_jacobian_point": model_class.jacobian_point,
+        "_max_speed_point": model_class.max_speed_point,
+        "_source_point": model_class.source_point or placeholders.source_point,
+        "_admissible_point": model_class.admissible_point or _finite_point(),
+    }
+
+
+def _finite_point() -> Callable[..., Any]:
+    from conslaw.kernels.defaults import finite_point
+
+    return finite_point
+
+
+def model_array_kernels(model_class: type) -> ModuleType:
+    """Compiled loops over the cells of a model's pointwise functions (its array methods)."""
+    return generate(
+        "arrays_template.py",
+        _model_bindings(model_class),
+        {"HAS_SOURCE": bool(model_class.has_source)},
+    )
+
+
+def nt_kernels(
+    model_class: type, slope_point: Callable[..., Any], fill_left: Any, fill_right: Any
+) -> ModuleType:
+    """The fused Nessyahu–Tadmor kernels for one model, reconstructor and boundary pair."""
+    bindings = _model_bindings(model_class)
+    bindings.update(
+        {"_slope_point": slope_point, "_fill_left": fill_left, "_fill_right": fill_right}
+    )
+    return generate("nt_template.py", bindings, {"HAS_SOURCE": bool(model_class.has_source)})

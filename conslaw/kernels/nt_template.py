@@ -1,0 +1,284 @@
+"""Template: the fused Nessyahu–Tadmor (NOC) kernels, Tai et al. (2001) eqs. (10)–(18).
+
+Generated per (model, reconstructor, boundary pair) by :func:`conslaw.kernels.codegen.nt_kernels`;
+do not import directly. Layout: padded arrays ``w[v, NG + i]`` for the ``n`` real cells ``i``.
+
+One step maps cell family A to family B, whose cell ``k`` spans the centres of A-cells
+``L = NG + shift + k`` and ``R = L + 1`` (``shift = -1`` primary -> staggered, ``0`` back):
+
+    w_B[k] = (w_L + w_R)/2 + (w'_L - w'_R)/8                      (eq. 10 with eq. 11)
+             - dt/dx (f(w_R^{n+1/2}) - f(w_L^{n+1/2}))            (eq. 12)
+             + dt/2 (s(w_L^{n+1/2} + w'_L/4) + s(w_R^{n+1/2} - w'_R/4))   (eqs. 13-14)
+    w^{n+1/2} = w + dt/2 (-A(w) w'/dx + s(w))                    (eq. 15)
+"""
+
+import numpy as np
+from numba import njit
+
+# --- bindings ---
+from conslaw.kernels.placeholders import (
+    admissible_point as _admissible_point,
+)
+from conslaw.kernels.placeholders import (
+    fill_left as _fill_left,
+)
+from conslaw.kernels.placeholders import (
+    fill_right as _fill_right,
+)
+from conslaw.kernels.placeholders import (
+    flux_point as _flux_point,
+)
+from conslaw.kernels.placeholders import (
+    jacobian_point as _jacobian_point,
+)
+from conslaw.kernels.placeholders import (
+    max_speed_point as _max_speed_point,
+)
+from conslaw.kernels.placeholders import (
+    slope_point as _slope_point,
+)
+from conslaw.kernels.placeholders import (
+    source_point as _source_point,
+)
+
+HAS_SOURCE = False
+# --- end bindings ---
+
+NG = 3
+STATUS_DONE = 0
+STATUS_PAUSED = 1
+STATUS_INADMISSIBLE = 2
+STATUS_DT_FLOOR = 3
+STATUS_CFL_UNREACHABLE = 4
+# Courant number that the second half of a step pair must stay below (eq. 17: strictly < 1/2).
+CFL_LIMIT = 0.5
+MAX_RETRIES = 30
+
+
+@njit(cache=True)
+def fill_ghosts(w, n, staggered, bc_left, bc_right):  # type: ignore[no-untyped-def]
+    _fill_left(w, n, NG, staggered, bc_left)
+    _fill_right(w, n, NG, staggered, bc_right)
+
+
+@njit(cache=True)
+def max_speed(w, n, aux, params):  # type: ignore[no-untyped-def]
+    """Largest wave speed over the real cells; ``(-1, i)`` at the first inadmissible cell i."""
+    nv = w.shape[0]
+    state = np.empty(nv)
+    coefficients = np.empty(aux.shape[0])
+    largest = 0.0
+    for i in range(NG, NG + n):
+        for v in range(nv):
+            state[v] = w[v, i]
+        for k in range(aux.shape[0]):
+            coefficients[k] = aux[k, i]
+        if not _admissible_point(state, coefficients, params):
+            return -1.0, i - NG
+        speed = _max_speed_point(state, coefficients, params)
+        if not (speed >= 0.0 and speed < np.inf):
+            return -1.0, i - NG
+        if speed > largest:
+            largest = speed
+    return largest, -1
+
+
+@njit(cache=True)
+def nt_step(  # type: ignore[no-untyped-def]
+    src,
+    dst,
+    n_src,
+    n_dst,
+    shift,
+    src_staggered,
+    dt,
+    dx,
+    aux_centre,
+    aux_left_quarter,
+    aux_right_quarter,
+    params,
+    bc_left,
+    bc_right,
+    slopes,
+    fluxes,
+    source_left,
+    source_right,
+):
+    """One staggered step from ``src`` (n_src cells) into ``dst`` (n_dst cells), in place."""
+    nv = src.shape[0]
+    fill_ghosts(src, n_src, src_staggered, bc_left, bc_right)
+    state = np.empty(nv)
+    slope = np.empty(nv)
+    rate = np.empty(nv)
+    result = np.empty(nv)
+    predicted = np.empty(nv)
+    matrix = np.empty((nv, nv))
+    coefficients = np.empty(aux_centre.shape[0])
+    half_dt = 0.5 * dt
+    first = NG + shift
+    # Pass 1: per source cell, slope, predictor (eq. 15), flux at t^{n+1/2} (eq. 12), and the
+    # sources at its two quarter points (eqs. 13-14).
+    for i in range(first, first + n_dst + 1):
+        for v in range(nv):
+            state[v] = src[v, i]
+            slope[v] = _slope_point(
+                src[v, i - 2], src[v, i - 1], src[v, i], src[v, i + 1], src[v, i + 2]
+            )
+            slopes[v, i] = slope[v]
+        for k in range(aux_centre.shape[0]):
+            coefficients[k] = aux_centre[k, i]
+        _jacobian_point(state, coefficients, params, matrix)
+        for r in range(nv):
+            acc = 0.0
+            for c in range(nv):
+                acc += matrix[r, c] * slope[c]
+            rate[r] = -acc / dx
+        if HAS_SOURCE:
+            _source_point(state, coefficients, params, result)
+            for v in range(nv):
+                rate[v] += result[v]
+        for v in range(nv):
+            predicted[v] = src[v, i] + half_dt * rate[v]
+        _flux_point(predicted, coefficients, params, result)
+        for v in range(nv):
+            fluxes[v, i] = result[v]
+        if HAS_SOURCE:
+            for v in range(nv):
+                state[v] = predicted[v] + 0.25 * slope[v]
+            for k in range(aux_centre.shape[0]):
+                coefficients[k] = aux_right_quarter[k, i]
+            _source_point(state, coefficients, params, result)
+            for v in range(nv):
+                source_right[v, i] = result[v]
+            for v in range(nv):
+                state[v] = predicted[v] - 0.25 * slope[v]
+            for k in range(aux_centre.shape[0]):
+                coefficients[k] = aux_left_quarter[k, i]
+            _source_point(state, coefficients, params, result)
+            for v in range(nv):
+                source_left[v, i] = result[v]
+    # Pass 2: the staggered cell averages (eq. 10).
+    ratio = dt / dx
+    for k in range(n_dst):
+        left = first + k
+        right = left + 1
+        for v in range(nv):
+            value = (
+                0.5 * (src[v, left] + src[v, right])
+                + 0.125 * (slopes[v, left] - slopes[v, right])
+                - ratio * (fluxes[v, right] - fluxes[v, left])
+            )
+            if HAS_SOURCE:
+                value += half_dt * (source_right[v, left] + source_left[v, right])
+            dst[v, NG + k] = value
+
+
+@njit(cache=True)
+def advance(  # type: ignore[no-untyped-def]
+    w0,
+    w1,
+    n0,
+    n1,
+    t,
+    t_end,
+    cfl,
+    dx,
+    dt_floor,
+    max_pairs,
+    aux0,
+    aux0_left,
+    aux0_right,
+    aux1,
+    aux1_left,
+    aux1_right,
+    params,
+    bc_left,
+    bc_right,
+    slopes,
+    fluxes,
+    source_left,
+    source_right,
+):
+    """Advance ``w0`` (primary family) by pairs of steps towards ``t_end``.
+
+    Each pair uses one ``dt = cfl dx / a_max`` for both half steps, so the state is back on the
+    primary family after every pair; the last pair is shortened to land on ``t_end`` exactly. If
+    the Courant number of the second half step would reach 1/2, the pair is redone with a smaller
+    ``dt`` (``w0`` is untouched until the pair is accepted).
+
+    Returns ``(t, pairs, status, family, cell, dt)``.
+    """
+    pairs = 0
+    dt = 0.0
+    while t < t_end:
+        if pairs >= max_pairs:
+            return t, pairs, STATUS_PAUSED, 0, -1, dt
+        speed, bad = max_speed(w0, n0, aux0, params)
+        if bad >= 0:
+            return t, pairs, STATUS_INADMISSIBLE, 0, bad, dt
+        remaining = t_end - t
+        dt = cfl * dx / speed if speed > 0.0 else remaining
+        last = False
+        if 2.0 * dt >= remaining:
+            dt = 0.5 * remaining
+            last = True
+        accepted = False
+        for _ in range(MAX_RETRIES):
+            if dt < dt_floor and not last:
+                return t, pairs, STATUS_DT_FLOOR, 0, -1, dt
+            nt_step(
+                w0,
+                w1,
+                n0,
+                n1,
+                -1,
+                False,
+                dt,
+                dx,
+                aux0,
+                aux0_left,
+                aux0_right,
+                params,
+                bc_left,
+                bc_right,
+                slopes,
+                fluxes,
+                source_left,
+                source_right,
+            )
+            speed1, bad = max_speed(w1, n1, aux1, params)
+            if bad >= 0:
+                return t, pairs, STATUS_INADMISSIBLE, 1, bad, dt
+            if speed1 * dt / dx < CFL_LIMIT:
+                accepted = True
+                break
+            dt = cfl * dx / speed1
+            last = False
+        if not accepted:
+            return t, pairs, STATUS_CFL_UNREACHABLE, 1, -1, dt
+        nt_step(
+            w1,
+            w0,
+            n1,
+            n0,
+            0,
+            True,
+            dt,
+            dx,
+            aux1,
+            aux1_left,
+            aux1_right,
+            params,
+            bc_left,
+            bc_right,
+            slopes,
+            fluxes,
+            source_left,
+            source_right,
+        )
+        t = t_end if last else t + 2.0 * dt
+        pairs += 1
+    speed, bad = max_speed(w0, n0, aux0, params)
+    if bad >= 0:
+        return t, pairs, STATUS_INADMISSIBLE, 0, bad, dt
+    return t, pairs, STATUS_DONE, 0, -1, dt

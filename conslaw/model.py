@@ -1,0 +1,180 @@
+"""The abstract physical model: conserved variables, flux, Jacobian, wave speeds, source.
+
+A model is *physics only*. It knows nothing of ghost cells, staggering, time steps or boundary
+conditions. Its physics is written once, as module-level numba-compiled *pointwise* functions that
+act on one state vector::
+
+    flux_point(q, aux, params, out)        # out[:] = f(q)
+    jacobian_point(q, aux, params, out)    # out[:, :] = df/dq (q)
+    max_speed_point(q, aux, params) -> float   # max |eigenvalue of df/dq|
+    source_point(q, aux, params, out)      # out[:] = s(q)     (only if has_source)
+    admissible_point(q, aux, params) -> bool   # q in the admissible set (default: finite)
+
+``q`` has shape ``(n_vars,)``, ``aux`` the per-point coefficients ``(n_aux,)`` (chute angle, bed
+slope, ...), ``params`` the packed parameter vector of :meth:`Model.param_vector`. The compiled
+Nessyahu–Tadmor kernel calls these functions directly; the array methods of :class:`Model`
+(``flux``, ``flux_jacobian``, ...) are compiled loops over the same functions, so the reference path
+and the compiled path share one copy of the physics.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from abc import ABC
+from collections.abc import Callable, Mapping
+from typing import TYPE_CHECKING, Any, ClassVar
+
+import numpy as np
+from numpy.typing import NDArray
+
+from conslaw.errors import ConfigError, unknown_name_message
+
+if TYPE_CHECKING:
+    from conslaw.exact import ExactSolution
+    from conslaw.grid import Grid
+    from conslaw.initial import InitialCondition
+
+Array = NDArray[np.float64]
+
+
+@dataclasses.dataclass(frozen=True)
+class NoParameters:
+    """Parameter set of a model without parameters."""
+
+
+class Model(ABC):
+    """Abstract base of every physical model.
+
+    Subclasses set the class attributes below and provide the pointwise kernels as
+    ``staticmethod``-wrapped numba functions defined at module level (so they can be imported by
+    the generated kernels). Registration (:mod:`conslaw.registry`) checks this contract.
+
+    Attributes
+    ----------
+    name, description : str
+        Registry name and a one-line description.
+    variables : tuple of str
+        Names of the conserved variables, in the order of the rows of ``q``.
+    aux_names : tuple of str
+        Names of the static per-point coefficients returned by :meth:`aux` (may be empty).
+    reflect_signs : tuple of float
+        Factor applied to each variable when it is mirrored at a reflective wall (momentum: -1).
+    has_source : bool
+        Whether the model has a source term (``source_point`` is then required).
+    depth_index : int or None
+        Row of the depth variable for models with dry states (front tracking, Lagrangian scheme).
+    Parameters : dataclass type
+        Frozen dataclass holding the physical parameters; it validates itself.
+    """
+
+    name: ClassVar[str]
+    description: ClassVar[str]
+    variables: ClassVar[tuple[str, ...]]
+    aux_names: ClassVar[tuple[str, ...]] = ()
+    reflect_signs: ClassVar[tuple[float, ...]]
+    has_source: ClassVar[bool] = False
+    depth_index: ClassVar[int | None] = None
+    Parameters: ClassVar[type] = NoParameters
+
+    flux_point: ClassVar[Callable[..., None]]
+    jacobian_point: ClassVar[Callable[..., None]]
+    max_speed_point: ClassVar[Callable[..., float]]
+    source_point: ClassVar[Callable[..., None] | None] = None
+    admissible_point: ClassVar[Callable[..., bool] | None] = None
+
+    def __init__(self, **params: Any) -> None:
+        fields = {f.name for f in dataclasses.fields(self.Parameters)}
+        for key in params:
+            if key not in fields:
+                raise ConfigError(
+                    unknown_name_message(f"parameter of model '{self.name}'", key, fields)
+                    if fields
+                    else f"model '{self.name}' takes no parameters, got '{key}'"
+                )
+        self.params = self.Parameters(**params)
+        self._arrays: Any = None
+
+    # ------------------------------------------------------------------ parameters, coefficients
+    @property
+    def n_vars(self) -> int:
+        """Number of conserved variables."""
+        return len(self.variables)
+
+    @property
+    def n_aux(self) -> int:
+        """Number of static per-point coefficients."""
+        return len(self.aux_names)
+
+    def param_vector(self) -> Array:
+        """The parameters packed as float64, in the field order of :attr:`Parameters`."""
+        values = [float(getattr(self.params, f.name)) for f in dataclasses.fields(self.Parameters)]
+        return np.array(values if values else [0.0], dtype=np.float64)
+
+    def aux(self, x: Array) -> Array:
+        """Static per-point coefficients at positions ``x``, shape ``(n_aux, len(x))``."""
+        return np.zeros((self.n_aux, np.asarray(x).shape[0]), dtype=np.float64)
+
+    def parameter_dict(self) -> dict[str, Any]:
+        """The parameters as a plain dictionary (for the resolved scene file)."""
+        return dataclasses.asdict(self.params)
+
+    # ------------------------------------------------------------------ derived array methods
+    def _compiled_arrays(self) -> Any:
+        if self._arrays is None:
+            from conslaw.kernels.codegen import model_array_kernels
+
+            self._arrays = model_array_kernels(type(self))
+        return self._arrays
+
+    def _prepare(self, q: Array, aux: Array | None) -> tuple[Array, Array]:
+        q = np.ascontiguousarray(q, dtype=np.float64)
+        if q.ndim == 1 and self.n_vars == 1:
+            q = q[None, :]
+        if q.ndim != 2 or q.shape[0] != self.n_vars:
+            raise ValueError(f"q must have shape ({self.n_vars}, n), got {q.shape}")
+        if aux is None:
+            aux = np.zeros((self.n_aux, q.shape[1]), dtype=np.float64)
+        return q, np.ascontiguousarray(aux, dtype=np.float64)
+
+    def flux(self, q: Array, aux: Array | None = None) -> Array:
+        """Physical flux ``f(q)`` of every column of ``q``, shape ``(n_vars, n)``."""
+        q, aux = self._prepare(q, aux)
+        out = np.empty_like(q)
+        self._compiled_arrays().flux_cells(q, aux, self.param_vector(), out)
+        return out
+
+    def flux_jacobian(self, q: Array, aux: Array | None = None) -> Array:
+        """Flux Jacobian ``A = df/dq`` of every column, shape ``(n_vars, n_vars, n)``."""
+        q, aux = self._prepare(q, aux)
+        out = np.empty((self.n_vars, self.n_vars, q.shape[1]), dtype=np.float64)
+        self._compiled_arrays().jacobian_cells(q, aux, self.param_vector(), out)
+        return out
+
+    def max_wave_speed(self, q: Array, aux: Array | None = None) -> Array:
+        """Largest absolute eigenvalue of the flux Jacobian in every column, shape ``(n,)``."""
+        q, aux = self._prepare(q, aux)
+        out = np.empty(q.shape[1], dtype=np.float64)
+        self._compiled_arrays().max_speed_cells(q, aux, self.param_vector(), out)
+        return out
+
+    def source(self, q: Array, aux: Array | None = None) -> Array:
+        """Source term ``s(q)`` of every column (zeros for a model without source)."""
+        q, aux = self._prepare(q, aux)
+        out = np.zeros_like(q)
+        if self.has_source:
+            self._compiled_arrays().source_cells(q, aux, self.param_vector(), out)
+        return out
+
+    def is_admissible(self, q: Array, aux: Array | None = None) -> NDArray[np.bool_]:
+        """Whether every column of ``q`` lies in the admissible set (finite, and model rules)."""
+        q, aux = self._prepare(q, aux)
+        out = np.empty(q.shape[1], dtype=np.bool_)
+        self._compiled_arrays().admissible_cells(q, aux, self.param_vector(), out)
+        return out
+
+    # ------------------------------------------------------------------ exact solutions
+    def exact_solution(
+        self, initial: InitialCondition, grid: Grid, boundary: Mapping[str, Any]
+    ) -> ExactSolution | None:
+        """The exact solution for this initial condition, or None if the model has none."""
+        return None

@@ -1,0 +1,103 @@
+"""The Scheme interface: ``stable_dt(state, cfl)`` and ``step(state, dt) -> state``."""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import Any, ClassVar
+
+from conslaw.boundary import BoundaryCondition
+from conslaw.errors import ConfigError, InadmissibleStateError, SchemeBreakdownError
+from conslaw.grid import Grid
+from conslaw.model import Model
+from conslaw.reconstruct import Reconstructor
+from conslaw.state import State
+
+
+@dataclass(frozen=True)
+class BoundarySpec:
+    """A boundary condition and its scene options for one side of the domain."""
+
+    condition: BoundaryCondition
+    options: Mapping[str, Any] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class AdvanceResult:
+    """What :meth:`Scheme.advance` returns: the new state and how many time steps it took."""
+
+    state: State
+    steps: int
+
+
+ProgressCallback = Callable[[float, int], None]
+
+
+class Scheme(ABC):
+    """A time-stepping scheme for ``q_t + f(q)_x = s(q)`` on a :class:`~conslaw.grid.Grid`.
+
+    The model, reconstructor and boundary conditions are injected; a scheme never branches on
+    their names. A scheme refuses an incompatible model at construction with a ConfigError.
+    """
+
+    name: ClassVar[str]
+    description: ClassVar[str]
+
+    def __init__(
+        self,
+        model: Model,
+        reconstructor: Reconstructor,
+        grid: Grid,
+        left: BoundarySpec,
+        right: BoundarySpec,
+        cfl: float,
+    ) -> None:
+        if left.condition.periodic != right.condition.periodic:
+            raise ConfigError(
+                "boundary: 'periodic' must be used on both sides (left and right), got "
+                f"left='{left.condition.name}', right='{right.condition.name}'"
+            )
+        self.model = model
+        self.reconstructor = reconstructor
+        self.grid = grid
+        self.left = left
+        self.right = right
+        self.periodic = left.condition.periodic
+        self.cfl = cfl
+
+    @abstractmethod
+    def stable_dt(self, state: State, cfl: float | None = None) -> float:
+        """Largest time step allowed by the scheme's CFL condition at this state."""
+
+    @abstractmethod
+    def step(self, state: State, dt: float) -> State:
+        """One time step of length ``dt``."""
+
+    def advance(
+        self, state: State, t_end: float, progress: ProgressCallback | None = None
+    ) -> AdvanceResult:
+        """Advance to ``t_end`` exactly (generic loop; schemes may provide a faster one)."""
+        steps = 0
+        while state.t < t_end:
+            dt = min(self.stable_dt(state), t_end - state.t)
+            if not dt > 0.0:
+                raise SchemeBreakdownError(f"time step collapsed to {dt:g} at t={state.t:g}")
+            state = self.step(state, dt)
+            steps += 1
+            if progress is not None:
+                progress(state.t, steps)
+        return AdvanceResult(state, steps)
+
+    def check_admissible(self, state: State, step: int) -> None:
+        """Raise InadmissibleStateError naming time, step, cell and values if ``state`` is bad."""
+        ok = self.model.is_admissible(state.q, self.model.aux(state.x))
+        if not ok.all():
+            cell = int((~ok).nonzero()[0][0])
+            values = ", ".join(
+                f"{name}={state.q[v, cell]!r}" for v, name in enumerate(self.model.variables)
+            )
+            raise InadmissibleStateError(
+                f"inadmissible state at t={state.t:.6g}, step {step}, cell {cell} "
+                f"(x={state.x[cell]:.6g}): {values}"
+            )

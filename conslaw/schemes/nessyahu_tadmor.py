@@ -1,0 +1,307 @@
+"""The Nessyahu–Tadmor non-oscillatory central (NOC) staggered scheme.
+
+Tai, Noelle, Gray & Hutter (2001), eqs. (10)–(18); Nessyahu & Tadmor (1990). The default path is a
+fused, compiled kernel (:mod:`conslaw.kernels.nt_template`) that advances many step pairs per call;
+:meth:`NessyahuTadmor.reference_step` is an independent numpy implementation used to test it.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from conslaw.errors import ConfigError, InadmissibleStateError, SchemeBreakdownError
+from conslaw.grid import Grid
+from conslaw.kernels.codegen import nt_kernels
+from conslaw.model import Model
+from conslaw.reconstruct import Reconstructor
+from conslaw.reconstruct.base import STENCIL_HALF_WIDTH
+from conslaw.schemes.base import AdvanceResult, BoundarySpec, ProgressCallback, Scheme
+from conslaw.state import State
+
+Array = NDArray[np.float64]
+
+#: Ghost cells each side: one for the staggered flux, two for the widest slope stencil.
+GHOSTS = 1 + STENCIL_HALF_WIDTH
+#: Step pairs advanced per call of the compiled kernel between progress reports.
+PAIRS_PER_CALL = 2000
+#: Smallest accepted time step relative to dx (below it the run stops instead of hanging).
+DT_FLOOR_RELATIVE = 1e-14
+
+
+def validate_cfl(cfl: Any) -> float:
+    """The CFL number as a float in (0, 1/2) (paper eq. 17), or a ConfigError."""
+    if isinstance(cfl, bool) or not isinstance(cfl, int | float) or not np.isfinite(cfl):
+        raise ConfigError(f"cfl must be a number in (0, 0.5), got {cfl!r}")
+    if not 0.0 < cfl < 0.5:
+        raise ConfigError(f"cfl must be in (0, 0.5) for the Nessyahu–Tadmor scheme, got {cfl}")
+    return float(cfl)
+
+
+class NessyahuTadmor(Scheme):
+    """Staggered central scheme of Nessyahu & Tadmor with quarter-point source integration.
+
+    One :meth:`step` moves the solution from one cell family to the other (``State.offset``
+    0 <-> 1/2); :meth:`advance` always takes steps in pairs with one ``dt`` per pair, so its result
+    is on the primary grid at exactly the requested time.
+
+    Parameters
+    ----------
+    model, reconstructor : Model, Reconstructor
+        Physics and slopes (injected).
+    grid : Grid
+        The primary grid.
+    left, right : BoundarySpec
+        Boundary conditions.
+    cfl : float
+        Target Courant number, ``0 < cfl < 1/2`` (paper eq. 17).
+    """
+
+    name = "nessyahu-tadmor"
+    description = "Nessyahu–Tadmor staggered central scheme (NOC), paper eqs. (10)-(18)"
+
+    def __init__(
+        self,
+        model: Model,
+        reconstructor: Reconstructor,
+        grid: Grid,
+        left: BoundarySpec,
+        right: BoundarySpec,
+        cfl: float = 0.45,
+    ) -> None:
+        super().__init__(model, reconstructor, grid, left, right, validate_cfl(cfl))
+        self.n_primary = grid.n_cells
+        self.n_staggered = grid.n_cells_at(0.5, self.periodic)
+        self.params = model.param_vector()
+        self.bc_left = left.condition.data(model, left.options)
+        self.bc_right = right.condition.data(model, right.options)
+        self._aux = {offset: self._aux_family(offset) for offset in (0.0, 0.5)}
+        self._kernels: Any = None
+        n_pad = self.n_staggered + 2 * GHOSTS
+        nv = model.n_vars
+        self._w0 = np.zeros((nv, n_pad))
+        self._w1 = np.zeros((nv, n_pad))
+        self._slopes = np.zeros((nv, n_pad))
+        self._fluxes = np.zeros((nv, n_pad))
+        source_width = n_pad if model.has_source else 1
+        self._source_left = np.zeros((nv, source_width))
+        self._source_right = np.zeros((nv, source_width))
+
+    # ------------------------------------------------------------------ set-up
+    def _padded_positions(self, offset: float) -> Array:
+        shift = 0.5 if offset == 0.0 else 0.0
+        n = self.grid.n_cells_at(offset, self.periodic)
+        return self.grid.x_min + self.grid.dx * (np.arange(n + 2 * GHOSTS) - GHOSTS + shift)
+
+    def _aux_family(self, offset: float) -> tuple[Array, Array, Array]:
+        """Model coefficients at the centres and quarter points of one padded cell family."""
+        x = self._padded_positions(offset)
+        quarter = 0.25 * self.grid.dx
+        result = []
+        for points in (x, x - quarter, x + quarter):
+            if self.periodic:
+                points = self.grid.x_min + np.mod(points - self.grid.x_min, self.grid.length)
+            result.append(np.ascontiguousarray(self.model.aux(points), dtype=np.float64))
+        return result[0], result[1], result[2]
+
+    @property
+    def kernels(self) -> Any:
+        """The generated compiled kernels (built on first use)."""
+        if self._kernels is None:
+            self._kernels = nt_kernels(
+                type(self.model),
+                self.reconstructor.slope_point,
+                self.left.condition.fill_left,
+                self.right.condition.fill_right,
+            )
+        return self._kernels
+
+    def _family(self, state: State) -> tuple[int, bool]:
+        staggered = state.offset != 0.0
+        n = self.n_staggered if staggered else self.n_primary
+        if state.n_cells != n or state.n_vars != self.model.n_vars:
+            raise ValueError(
+                f"state has shape {state.q.shape}, expected ({self.model.n_vars}, {n}) "
+                f"for offset {state.offset}"
+            )
+        return n, staggered
+
+    # ------------------------------------------------------------------ Scheme interface
+    def stable_dt(self, state: State, cfl: float | None = None) -> float:
+        """``cfl * dx / a_max`` (paper eqs. 17-18); infinite for a state at rest."""
+        cfl = self.cfl if cfl is None else validate_cfl(cfl)
+        n, staggered = self._family(state)
+        aux = self._aux[0.5 if staggered else 0.0][0][:, GHOSTS : GHOSTS + n]
+        speed = self.model.max_wave_speed(state.q, aux)
+        if not np.all(np.isfinite(speed)):
+            self.check_admissible(state, step=0)
+        largest = float(speed.max()) if speed.size else 0.0
+        return np.inf if largest == 0.0 else cfl * self.grid.dx / largest
+
+    def step(self, state: State, dt: float) -> State:
+        """One compiled NT step to the other cell family (offset 0 <-> 1/2)."""
+        n_src, staggered = self._family(state)
+        self._check_step(state, dt)
+        n_dst = self.n_primary if staggered else self.n_staggered
+        aux = self._aux[0.5 if staggered else 0.0]
+        src = self._w0
+        src[:, GHOSTS : GHOSTS + n_src] = state.q
+        self.kernels.nt_step(
+            src,
+            self._w1,
+            n_src,
+            n_dst,
+            0 if staggered else -1,
+            staggered,
+            float(dt),
+            self.grid.dx,
+            aux[0],
+            aux[1],
+            aux[2],
+            self.params,
+            self.bc_left,
+            self.bc_right,
+            self._slopes,
+            self._fluxes,
+            self._source_left,
+            self._source_right,
+        )
+        offset = 0.0 if staggered else 0.5
+        return State(
+            state.t + dt,
+            self.grid.centres(offset, self.periodic),
+            self._w1[:, GHOSTS : GHOSTS + n_dst].copy(),
+            offset,
+        )
+
+    def _check_step(self, state: State, dt: float) -> None:
+        if not (np.isfinite(dt) and dt > 0.0):
+            raise ConfigError(f"dt must be a positive number, got {dt!r}")
+        if dt > self.stable_dt(state, cfl=0.4999999999999999):
+            raise ConfigError(
+                f"dt={dt:g} violates the CFL condition dt*a_max/dx < 1/2 (paper eq. 17)"
+            )
+
+    def reference_step(self, state: State, dt: float) -> State:
+        """The same step as :meth:`step`, written with numpy array operations (for testing)."""
+        n_src, staggered = self._family(state)
+        self._check_step(state, dt)
+        n_dst = self.n_primary if staggered else self.n_staggered
+        centre, left_quarter, right_quarter = self._aux[0.5 if staggered else 0.0]
+        nv = self.model.n_vars
+        w = np.zeros((nv, n_src + 2 * GHOSTS))
+        w[:, GHOSTS : GHOSTS + n_src] = state.q
+        self.left.condition.fill_left(w, n_src, GHOSTS, staggered, self.bc_left)
+        self.right.condition.fill_right(w, n_src, GHOSTS, staggered, self.bc_right)
+        first = GHOSTS + (0 if staggered else -1)
+        cells = slice(first, first + n_dst + 1)
+        slopes = self.reconstructor.slopes(
+            w[:, first - STENCIL_HALF_WIDTH : first + n_dst + 1 + STENCIL_HALF_WIDTH]
+        )
+        values = w[:, cells]
+        jacobian = self.model.flux_jacobian(values, centre[:, cells])
+        rate = -np.einsum("rcm,cm->rm", jacobian, slopes) / self.grid.dx
+        rate += self.model.source(values, centre[:, cells])
+        predicted = values + 0.5 * dt * rate
+        flux = self.model.flux(predicted, centre[:, cells])
+        source_right = self.model.source(predicted + 0.25 * slopes, right_quarter[:, cells])
+        source_left = self.model.source(predicted - 0.25 * slopes, left_quarter[:, cells])
+        new = (
+            0.5 * (values[:, :-1] + values[:, 1:])
+            + 0.125 * (slopes[:, :-1] - slopes[:, 1:])
+            - dt / self.grid.dx * (flux[:, 1:] - flux[:, :-1])
+            + 0.5 * dt * (source_right[:, :-1] + source_left[:, 1:])
+        )
+        offset = 0.0 if staggered else 0.5
+        return State(state.t + dt, self.grid.centres(offset, self.periodic), new, offset)
+
+    def advance(
+        self, state: State, t_end: float, progress: ProgressCallback | None = None
+    ) -> AdvanceResult:
+        """Advance a primary-grid state to exactly ``t_end`` with the fused compiled kernel.
+
+        Raises
+        ------
+        InadmissibleStateError
+            NaN, inf or a state outside the model's admissible set, with time, step and cell.
+        SchemeBreakdownError
+            The time step fell below ``1e-14 dx`` or the CFL condition could not be met.
+        """
+        n, staggered = self._family(state)
+        if staggered:
+            raise ValueError("advance() starts from the primary grid (offset 0)")
+        if not t_end >= state.t:
+            raise ConfigError(f"t_end={t_end} is before the state's time {state.t}")
+        w0 = self._w0
+        w0[:, GHOSTS : GHOSTS + n] = state.q
+        a0, a0l, a0r = self._aux[0.0]
+        a1, a1l, a1r = self._aux[0.5]
+        t = state.t
+        steps = 0
+        dt_floor = DT_FLOOR_RELATIVE * self.grid.dx
+        while True:
+            t, pairs, status, family, cell, dt = self.kernels.advance(
+                w0,
+                self._w1,
+                self.n_primary,
+                self.n_staggered,
+                t,
+                float(t_end),
+                self.cfl,
+                self.grid.dx,
+                dt_floor,
+                PAIRS_PER_CALL,
+                a0,
+                a0l,
+                a0r,
+                a1,
+                a1l,
+                a1r,
+                self.params,
+                self.bc_left,
+                self.bc_right,
+                self._slopes,
+                self._fluxes,
+                self._source_left,
+                self._source_right,
+            )
+            steps += 2 * pairs
+            if status == self.kernels.STATUS_PAUSED:
+                if progress is not None:
+                    progress(t, steps)
+                continue
+            if status == self.kernels.STATUS_DONE:
+                break
+            self._raise_failure(status, family, cell, t, steps, dt)
+        result = State(t, state.x, w0[:, GHOSTS : GHOSTS + n].copy(), 0.0)
+        if progress is not None:
+            progress(t, steps)
+        return AdvanceResult(result, steps)
+
+    def _raise_failure(
+        self, status: int, family: int, cell: int, t: float, steps: int, dt: float
+    ) -> None:
+        k = self.kernels
+        if status == k.STATUS_INADMISSIBLE:
+            buffer = self._w0 if family == 0 else self._w1
+            offset = 0.5 * family
+            x = self.grid.centres(offset, self.periodic)[cell]
+            values = ", ".join(
+                f"{name}={buffer[v, GHOSTS + cell]!r}"
+                for v, name in enumerate(self.model.variables)
+            )
+            where = "staggered cell" if family else "cell"
+            raise InadmissibleStateError(
+                f"inadmissible state at t={t:.6g}, step {steps + family}, {where} {cell} "
+                f"(x={x:.6g}): {values}"
+            )
+        if status == k.STATUS_DT_FLOOR:
+            raise SchemeBreakdownError(
+                f"time step {dt:.3g} fell below the floor {DT_FLOOR_RELATIVE:g}*dx at t={t:.6g}, "
+                f"step {steps}"
+            )
+        raise SchemeBreakdownError(
+            f"could not meet the CFL condition (< 1/2) at t={t:.6g}, step {steps}"
+        )
