@@ -1,0 +1,67 @@
+"""Scene files: defaults, overrides, validation."""
+
+from __future__ import annotations
+
+import pytest
+
+import conslaw
+from conslaw.config import load_scene, parse_value
+from conslaw.errors import ConfigError
+
+
+def test_defaults_fill_what_a_scene_does_not_name() -> None:
+    scene = load_scene("burgers-sine")
+    assert scene.scheme == "nessyahu-tadmor"
+    assert scene.cfl == 0.45
+    assert scene.output_times == (0.25,)
+    assert scene.left.kind == "periodic"
+
+
+def test_overrides_flat_and_dotted() -> None:
+    scene = load_scene(
+        "burgers-riemann", {"n_cells": 64, "boundary.left": "wall", "output_times": [0.2]}
+    )
+    assert scene.n_cells == 64 and scene.left.kind == "wall" and scene.right.kind == "outflow"
+    assert scene.output_times == (0.2, 1.0)
+
+
+def test_python_run_accepts_overrides_and_writes_nothing_without_out(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    result = conslaw.run("burgers-sine", n_cells=32, reconstructor="minmod")
+    assert result.final.t == 0.25 and result.final.q.shape == (1, 32)
+    assert result.files == []
+    assert abs(result.mass_drift[0]) < 1e-13
+
+
+@pytest.mark.parametrize(
+    ("text", "value"),
+    [
+        ("800", 800),
+        ("0.3", 0.3),
+        ("true", True),
+        ("weno5", "weno5"),
+        ("[1, 2]", [1, 2]),
+        ('"a b"', "a b"),
+    ],
+)
+def test_parse_value(text: str, value: object) -> None:
+    assert parse_value(text) == value
+
+
+@pytest.mark.parametrize(
+    ("overrides", "fragment"),
+    [
+        ({"output_times": [2.0]}, "output_times"),
+        ({"t_end": -1.0}, "t_end"),
+        ({"exact": "yes"}, "exact"),
+        ({"output.formats": ["vtk"]}, "output.formats"),
+        ({"output.colour": "red"}, "unknown key in [output]"),
+        ({"boundary.left": {"kind": "inflow"}}, "state"),
+        ({"boundary.left": {"kind": "outflow", "state": [1.0]}}, "takes no options"),
+        ({"initial.breakpoints": [1.0, 0.0]}, "increasing"),
+        ({"initial.states": [1.0, 2.0]}, "3 entries"),
+        ({"description": 5}, "description"),
+    ],
+)
+def test_invalid_scenes_are_config_errors(overrides: dict[str, object], fragment: str) -> None:
+    with pytest.raises(ConfigError, match=fragment.replace("[", r"\[").replace(".", r"\.")):
+        conslaw.run("burgers-riemann", **{k.replace(".", "__"): v for k, v in overrides.items()})

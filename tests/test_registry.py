@@ -1,0 +1,92 @@
+"""The registry: entry points, contract checks, clear errors for unknown names."""
+
+from __future__ import annotations
+
+from importlib.metadata import entry_points
+
+import pytest
+
+from conslaw import registry
+from conslaw.errors import ConfigError
+from conslaw.model import Model
+from conslaw.registry import ContractError, Registry, check_model
+from conslaw_models.burgers import Burgers
+
+
+def test_burgers_is_registered_through_its_entry_point() -> None:
+    names = {point.name for point in entry_points(group="conslaw.models")}
+    assert "burgers" in names
+    assert registry.models.get("burgers") is Burgers
+
+
+def test_unknown_name_lists_the_allowed_values_and_a_close_match() -> None:
+    with pytest.raises(ConfigError) as error:
+        registry.reconstructors.get("wen05")
+    message = str(error.value)
+    assert "allowed: mc, minmod, none, superbee, vanleer, weno3, weno5" in message
+    assert "did you mean 'weno5'" in message
+
+
+def test_contract_refuses_a_model_without_kernels() -> None:
+    class Incomplete(Model):
+        name = "incomplete"
+        description = "no kernels"
+        variables = ("u",)
+        reflect_signs = (1.0,)
+
+    with pytest.raises(ContractError, match="flux_point"):
+        check_model("incomplete", Incomplete)
+
+
+def test_contract_refuses_a_closure_kernel() -> None:
+    from numba import njit
+
+    @njit
+    def local_flux(q, aux, params, out):  # type: ignore[no-untyped-def]
+        out[0] = q[0]
+
+    class Closure(Burgers):
+        name = "closure"
+        flux_point = staticmethod(local_flux)
+
+    with pytest.raises(ContractError, match="module-level"):
+        check_model("closure", Closure)
+
+
+def test_contract_refuses_mismatched_names_and_non_models() -> None:
+    with pytest.raises(ContractError, match="calls itself"):
+        check_model("burgerz", Burgers)
+    with pytest.raises(ContractError, match="subclass"):
+        check_model("x", object)
+
+
+def test_a_broken_plugin_is_skipped_with_a_warning(monkeypatch: pytest.MonkeyPatch) -> None:
+    class FakePoint:
+        name = "broken"
+        value = "nowhere:Nothing"
+
+        def load(self) -> object:
+            raise ImportError("no module named nowhere")
+
+    import conslaw.registry as module
+
+    monkeypatch.setattr(module, "entry_points", lambda group: [FakePoint()])
+    fresh: Registry[type[Model]] = Registry("model", "conslaw.models", check_model)
+    with pytest.warns(UserWarning, match="skipped model plugin 'broken'"):
+        assert fresh.names() == []
+
+
+def test_every_registered_model_runs_with_every_reconstructor() -> None:
+    """Smoke test over the registry: a new plugin is exercised automatically."""
+    import numpy as np
+    from conftest import make_scheme
+
+    from conslaw.state import State
+
+    for model_name in registry.models.names():
+        model = registry.models.get(model_name)()
+        for reconstructor in registry.reconstructors.names():
+            scheme = make_scheme(model_name, reconstructor, n_cells=16, boundary="outflow")
+            q = np.ones((model.n_vars, 16))
+            result = scheme.advance(State(0.0, scheme.grid.centres(), q), 0.01)
+            assert np.all(np.isfinite(result.state.q))
