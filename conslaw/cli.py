@@ -41,7 +41,7 @@ def _command_list(args: argparse.Namespace) -> int:
     from conslaw import registry
     from conslaw.initial import INITIAL_KINDS
 
-    sections = [
+    sections: list[tuple[str, registry.Registry[Any]]] = [
         ("models", registry.models),
         ("schemes", registry.schemes),
         ("reconstructors", registry.reconstructors),

@@ -216,7 +216,7 @@ def description_of(kind: str, name: str) -> str:
     if kind == "models":
         return models.get(name).description
     if kind == "schemes":
-        return str(schemes.get(name).description)
+        return str(getattr(schemes.get(name), "description", ""))
     if kind == "reconstructors":
         return reconstructors.get(name).description
     if kind == "boundaries":

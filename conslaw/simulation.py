@@ -100,13 +100,14 @@ def simulate(scene: Scene, progress: ProgressCallback | None = None) -> RunResul
     state = initial
     steps = 0
     started = time.perf_counter()
+
+    def report(t: float, n: int) -> None:
+        if progress is not None:
+            progress(t, steps + n)
+
     for t_out in scene.output_times:
         if t_out > state.t:
-            advanced = scheme.advance(
-                state,
-                t_out,
-                None if progress is None else (lambda t, n, base=steps: progress(t, base + n)),
-            )
+            advanced = scheme.advance(state, t_out, report)
             state = advanced.state
             steps += advanced.steps
         states.append(state)

@@ -23,7 +23,10 @@ import tempfile
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from types import ModuleType
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from conslaw.model import Model
 
 _TEMPLATE_DIR = Path(__file__).resolve().parent
 _BEGIN = "# --- bindings ---"
@@ -128,7 +131,7 @@ def generate(
     return module
 
 
-def _model_bindings(model_class: type) -> dict[str, Callable[..., Any]]:
+def _model_bindings(model_class: type[Model]) -> dict[str, Callable[..., Any]]:
     from conslaw.kernels import placeholders
 
     return {
@@ -146,7 +149,7 @@ def _finite_point() -> Callable[..., Any]:
     return finite_point
 
 
-def model_array_kernels(model_class: type) -> ModuleType:
+def model_array_kernels(model_class: type[Model]) -> ModuleType:
     """Compiled loops over the cells of a model's pointwise functions (its array methods)."""
     return generate(
         "arrays_template.py",
@@ -156,7 +159,7 @@ def model_array_kernels(model_class: type) -> ModuleType:
 
 
 def nt_kernels(
-    model_class: type, slope_point: Callable[..., Any], fill_left: Any, fill_right: Any
+    model_class: type[Model], slope_point: Callable[..., Any], fill_left: Any, fill_right: Any
 ) -> ModuleType:
     """The fused Nessyahu–Tadmor kernels for one model, reconstructor and boundary pair."""
     bindings = _model_bindings(model_class)
