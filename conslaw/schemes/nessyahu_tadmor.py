@@ -257,7 +257,7 @@ class NessyahuTadmor(Scheme):
                 self.cfl,
                 self.grid.dx,
                 dt_floor,
-                PAIRS_PER_CALL,
+                pairs_per_call,
                 a0,
                 a0l,
                 a0r,
