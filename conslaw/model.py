@@ -81,6 +81,22 @@ class Model(ABC):
     max_speed_point: ClassVar[Callable[..., float]]
     source_point: ClassVar[Callable[..., None] | None] = None
     admissible_point: ClassVar[Callable[..., bool] | None] = None
+    #: Optional ``balanced_source_point(q_left, q_right, aux_left, aux_right, dx, params, out)``:
+    #: the source averaged over the staggered cell between two centres, replacing the
+    #: quarter-point pair of eqs. (13)-(14) (a well-balanced pairing with the flux).
+    balanced_source_point: ClassVar[Callable[..., None] | None] = None
+    #: Optional ``correct_point(q, aux, params, dt)``: in-place pointwise correction of every
+    #: new cell average after each step (dry cells, Coulomb stopping).
+    correct_point: ClassVar[Callable[..., None] | None] = None
+    #: ``(bed average, bed slope)`` rows of ``aux``: the depth variable is then reconstructed as
+    #: the surface ``depth + bed`` (surface gradient method), its slope being
+    #: ``slope(surface) - dx * bed slope``.
+    surface_aux: ClassVar[tuple[int, int] | None] = None
+    #: Initial-condition kinds this model adds: kind -> (required keys, defaults, description);
+    #: built by :meth:`initial_cell_averages`.
+    initial_kinds: ClassVar[dict[str, tuple[tuple[str, ...], dict[str, Any], str]]] = {}
+    #: What :meth:`is_admissible` requires, for error messages.
+    admissible_rule: ClassVar[str] = "every variable finite"
 
     def __init__(self, **params: Any) -> None:
         fields = {f.name for f in dataclasses.fields(self.Parameters)}
@@ -110,9 +126,17 @@ class Model(ABC):
         values = [float(getattr(self.params, f.name)) for f in dataclasses.fields(self.Parameters)]
         return np.array(values if values else [0.0], dtype=np.float64)
 
-    def aux(self, x: Array) -> Array:
-        """Static per-point coefficients at positions ``x``, shape ``(n_aux, len(x))``."""
+    def aux(self, x: Array, dx: float) -> Array:
+        """Static coefficients of the cells of width ``dx`` centred at ``x``, ``(n_aux, len(x))``.
+
+        The scheme asks for whole cells (width dx) at cell centres and for half cells (width
+        dx/2) at the quarter points, so coefficients may be exact cell averages.
+        """
         return np.zeros((self.n_aux, np.asarray(x).shape[0]), dtype=np.float64)
+
+    def initial_cell_averages(self, kind: str, options: Mapping[str, Any], grid: Grid) -> Array:
+        """Exact cell averages of one of this model's :attr:`initial_kinds`."""
+        raise NotImplementedError(f"model '{self.name}' has no initial condition '{kind}'")
 
     def parameter_dict(self) -> dict[str, Any]:
         """The parameters as a plain dictionary (for the resolved scene file)."""
@@ -133,7 +157,9 @@ class Model(ABC):
         if q.ndim != 2 or q.shape[0] != self.n_vars:
             raise ValueError(f"q must have shape ({self.n_vars}, n), got {q.shape}")
         if aux is None:
-            aux = np.zeros((self.n_aux, q.shape[1]), dtype=np.float64)
+            if self.n_aux:
+                raise ValueError(f"model '{self.name}' needs its coefficients (aux) here")
+            aux = np.zeros((0, q.shape[1]), dtype=np.float64)
         return q, np.ascontiguousarray(aux, dtype=np.float64)
 
     def flux(self, q: Array, aux: Array | None = None) -> Array:
@@ -163,6 +189,20 @@ class Model(ABC):
         out = np.zeros_like(q)
         if self.has_source:
             self._compiled_arrays().source_cells(q, aux, self.param_vector(), out)
+        return out
+
+    def balanced_source(self, predicted: Array, aux: Array, dx: float) -> Array:
+        """``balanced_source_point`` between neighbouring columns, shape ``(n_vars, n-1)``."""
+        q, aux = self._prepare(predicted, aux)
+        out = np.zeros((self.n_vars, q.shape[1] - 1))
+        self._compiled_arrays().balanced_source_cells(q, aux, dx, self.param_vector(), out)
+        return out
+
+    def correct(self, q: Array, aux: Array, dt: float) -> Array:
+        """``correct_point`` applied to a copy of every column of ``q``."""
+        q, aux = self._prepare(q, aux)
+        out = q.copy()
+        self._compiled_arrays().correct_cells(out, aux, self.param_vector(), dt)
         return out
 
     def is_admissible(self, q: Array, aux: Array | None = None) -> NDArray[np.bool_]:

@@ -11,6 +11,12 @@ from conslaw.kernels.placeholders import (
     admissible_point as _admissible_point,
 )
 from conslaw.kernels.placeholders import (
+    balanced_source_point as _balanced_source_point,
+)
+from conslaw.kernels.placeholders import (
+    correct_point as _correct_point,
+)
+from conslaw.kernels.placeholders import (
     flux_point as _flux_point,
 )
 from conslaw.kernels.placeholders import (
@@ -24,6 +30,8 @@ from conslaw.kernels.placeholders import (
 )
 
 HAS_SOURCE = False
+HAS_BALANCED_SOURCE = False
+HAS_CORRECTION = False
 # --- end bindings ---
 
 
@@ -101,3 +109,40 @@ def admissible_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
         for k in range(aux.shape[0]):
             coefficients[k] = aux[k, i]
         out[i] = _admissible_point(state, coefficients, params)
+
+
+@njit(cache=True)
+def balanced_source_cells(q, aux, dx, params, out):  # type: ignore[no-untyped-def]
+    nv = q.shape[0]
+    left = np.empty(nv)
+    right = np.empty(nv)
+    result = np.zeros(nv)
+    aux_left = np.empty(aux.shape[0])
+    aux_right = np.empty(aux.shape[0])
+    for i in range(q.shape[1] - 1):
+        for v in range(nv):
+            left[v] = q[v, i]
+            right[v] = q[v, i + 1]
+        for k in range(aux.shape[0]):
+            aux_left[k] = aux[k, i]
+            aux_right[k] = aux[k, i + 1]
+        if HAS_BALANCED_SOURCE:
+            _balanced_source_point(left, right, aux_left, aux_right, dx, params, result)
+        for v in range(nv):
+            out[v, i] = result[v]
+
+
+@njit(cache=True)
+def correct_cells(q, aux, params, dt):  # type: ignore[no-untyped-def]
+    nv = q.shape[0]
+    state = np.empty(nv)
+    coefficients = np.empty(aux.shape[0])
+    for i in range(q.shape[1]):
+        for v in range(nv):
+            state[v] = q[v, i]
+        for k in range(aux.shape[0]):
+            coefficients[k] = aux[k, i]
+        if HAS_CORRECTION:
+            _correct_point(state, coefficients, params, dt)
+        for v in range(nv):
+            q[v, i] = state[v]

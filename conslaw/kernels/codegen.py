@@ -133,28 +133,44 @@ def generate(
 
 def _model_bindings(model_class: type[Model]) -> dict[str, Callable[..., Any]]:
     from conslaw.kernels import placeholders
+    from conslaw.kernels.defaults import finite_point
 
     return {
         "_flux_point": model_class.flux_point,
         "_jacobian_point": model_class.jacobian_point,
         "_max_speed_point": model_class.max_speed_point,
         "_source_point": model_class.source_point or placeholders.source_point,
-        "_admissible_point": model_class.admissible_point or _finite_point(),
+        "_admissible_point": model_class.admissible_point or finite_point,
     }
 
 
-def _finite_point() -> Callable[..., Any]:
-    from conslaw.kernels.defaults import finite_point
-
-    return finite_point
+def _model_constants(model_class: type[Model]) -> dict[str, bool | int]:
+    bed, bed_slope = model_class.surface_aux or (-1, -1)
+    depth = model_class.depth_index
+    return {
+        "HAS_SOURCE": bool(model_class.has_source),
+        "HAS_BALANCED_SOURCE": model_class.balanced_source_point is not None,
+        "HAS_CORRECTION": model_class.correct_point is not None,
+        "DEPTH": -1 if depth is None else int(depth),
+        "SURFACE_BED": int(bed),
+        "SURFACE_SLOPE": int(bed_slope),
+    }
 
 
 def model_array_kernels(model_class: type[Model]) -> ModuleType:
     """Compiled loops over the cells of a model's pointwise functions (its array methods)."""
+    from conslaw.kernels import placeholders
+
+    bindings = _model_bindings(model_class)
+    bindings["_balanced_source_point"] = (
+        model_class.balanced_source_point or placeholders.balanced_source_point
+    )
+    bindings["_correct_point"] = model_class.correct_point or placeholders.correct_point
+    constants = _model_constants(model_class)
     return generate(
         "arrays_template.py",
-        _model_bindings(model_class),
-        {"HAS_SOURCE": bool(model_class.has_source)},
+        bindings,
+        {key: constants[key] for key in ("HAS_SOURCE", "HAS_BALANCED_SOURCE", "HAS_CORRECTION")},
     )
 
 
@@ -162,8 +178,17 @@ def nt_kernels(
     model_class: type[Model], slope_point: Callable[..., Any], fill_left: Any, fill_right: Any
 ) -> ModuleType:
     """The fused Nessyahu–Tadmor kernels for one model, reconstructor and boundary pair."""
+    from conslaw.kernels import placeholders
+
     bindings = _model_bindings(model_class)
     bindings.update(
-        {"_slope_point": slope_point, "_fill_left": fill_left, "_fill_right": fill_right}
+        {
+            "_slope_point": slope_point,
+            "_fill_left": fill_left,
+            "_fill_right": fill_right,
+            "_balanced_source_point": model_class.balanced_source_point
+            or placeholders.balanced_source_point,
+            "_correct_point": model_class.correct_point or placeholders.correct_point,
+        }
     )
-    return generate("nt_template.py", bindings, {"HAS_SOURCE": bool(model_class.has_source)})
+    return generate("nt_template.py", bindings, _model_constants(model_class))

@@ -10,6 +10,12 @@ One step maps cell family A to family B, whose cell ``k`` spans the centres of A
              - dt/dx (f(w_R^{n+1/2}) - f(w_L^{n+1/2}))            (eq. 12)
              + dt/2 (s(w_L^{n+1/2} + w'_L/4) + s(w_R^{n+1/2} - w'_R/4))   (eqs. 13-14)
     w^{n+1/2} = w + dt/2 (-A(w) w'/dx + s(w))                    (eq. 15)
+
+Compile-time switches (constants of the generated module; unused branches are removed):
+``HAS_SOURCE`` (quarter-point sources), ``HAS_BALANCED_SOURCE`` (the model's staggered-cell source
+replaces the quarter-point pair), ``HAS_CORRECTION`` (pointwise correction of every new cell),
+``DEPTH`` (row of a depth variable kept >= 0, or -1), ``SURFACE_BED``/``SURFACE_SLOPE`` (aux rows
+of the bed average and slope: the depth is reconstructed as depth + bed), ``DRY_DEPTH``.
 """
 
 import numpy as np
@@ -18,6 +24,12 @@ from numba import njit
 # --- bindings ---
 from conslaw.kernels.placeholders import (
     admissible_point as _admissible_point,
+)
+from conslaw.kernels.placeholders import (
+    balanced_source_point as _balanced_source_point,
+)
+from conslaw.kernels.placeholders import (
+    correct_point as _correct_point,
 )
 from conslaw.kernels.placeholders import (
     fill_left as _fill_left,
@@ -42,6 +54,11 @@ from conslaw.kernels.placeholders import (
 )
 
 HAS_SOURCE = False
+HAS_BALANCED_SOURCE = False
+HAS_CORRECTION = False
+DEPTH = -1
+SURFACE_BED = -1
+SURFACE_SLOPE = -1
 # --- end bindings ---
 
 NG = 3
@@ -52,7 +69,7 @@ STATUS_DT_FLOOR = 3
 STATUS_CFL_UNREACHABLE = 4
 # Courant number that the second half of a step pair must stay below (eq. 17: strictly < 1/2).
 CFL_LIMIT = 0.5
-MAX_RETRIES = 30
+MAX_RETRIES = 60
 
 
 @njit(cache=True)
@@ -84,6 +101,49 @@ def max_speed(w, n, aux, params):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
+def depth_is_negative(w, n):  # type: ignore[no-untyped-def]
+    """Whether any real cell has a negative depth (always False without a depth variable)."""
+    if DEPTH < 0:
+        return False
+    for i in range(NG, NG + n):  # noqa: SIM110 (numba compiles loops, not generators)
+        if w[DEPTH, i] < 0.0:
+            return True
+    return False
+
+
+@njit(cache=True)
+def cell_slope(src, v, i, dx, aux_centre):  # type: ignore[no-untyped-def]
+    """Slope of variable v in padded cell i, with the depth rules of the compile-time switches."""
+    if SURFACE_BED >= 0 and v == DEPTH:
+        # Surface gradient method: reconstruct depth + bed, then remove the bed slope.
+        bed = aux_centre[SURFACE_BED]
+        slope = (
+            _slope_point(
+                src[v, i - 2] + bed[i - 2],
+                src[v, i - 1] + bed[i - 1],
+                src[v, i] + bed[i],
+                src[v, i + 1] + bed[i + 1],
+                src[v, i + 2] + bed[i + 2],
+            )
+            - dx * aux_centre[SURFACE_SLOPE, i]
+        )
+    else:
+        slope = _slope_point(src[v, i - 2], src[v, i - 1], src[v, i], src[v, i + 1], src[v, i + 2])
+    if DEPTH >= 0:
+        depth = src[DEPTH, i]
+        if depth <= 0.0:
+            return 0.0
+        if v == DEPTH:
+            # Both half-cell averages depth +- slope/4 stay >= 0.
+            limit = 4.0 * depth
+            if slope > limit:
+                slope = limit
+            elif slope < -limit:
+                slope = -limit
+    return slope
+
+
+@njit(cache=True)
 def nt_step(  # type: ignore[no-untyped-def]
     src,
     dst,
@@ -96,6 +156,7 @@ def nt_step(  # type: ignore[no-untyped-def]
     aux_centre,
     aux_left_quarter,
     aux_right_quarter,
+    aux_dst,
     params,
     bc_left,
     bc_right,
@@ -104,7 +165,10 @@ def nt_step(  # type: ignore[no-untyped-def]
     source_left,
     source_right,
 ):
-    """One staggered step from ``src`` (n_src cells) into ``dst`` (n_dst cells), in place."""
+    """One staggered step from ``src`` (n_src cells) into ``dst`` (n_dst cells), in place.
+
+    ``source_left`` holds the predicted states when the model has a balanced source.
+    """
     nv = src.shape[0]
     fill_ghosts(src, n_src, src_staggered, bc_left, bc_right)
     state = np.empty(nv)
@@ -112,8 +176,10 @@ def nt_step(  # type: ignore[no-untyped-def]
     rate = np.empty(nv)
     result = np.empty(nv)
     predicted = np.empty(nv)
+    neighbour = np.empty(nv)
     matrix = np.empty((nv, nv))
     coefficients = np.empty(aux_centre.shape[0])
+    other = np.empty(aux_centre.shape[0])
     half_dt = 0.5 * dt
     first = NG + shift
     # Pass 1: per source cell, slope, predictor (eq. 15), flux at t^{n+1/2} (eq. 12), and the
@@ -121,9 +187,7 @@ def nt_step(  # type: ignore[no-untyped-def]
     for i in range(first, first + n_dst + 1):
         for v in range(nv):
             state[v] = src[v, i]
-            slope[v] = _slope_point(
-                src[v, i - 2], src[v, i - 1], src[v, i], src[v, i + 1], src[v, i + 2]
-            )
+            slope[v] = cell_slope(src, v, i, dx, aux_centre)
             slopes[v, i] = slope[v]
         for k in range(aux_centre.shape[0]):
             coefficients[k] = aux_centre[k, i]
@@ -142,7 +206,10 @@ def nt_step(  # type: ignore[no-untyped-def]
         _flux_point(predicted, coefficients, params, result)
         for v in range(nv):
             fluxes[v, i] = result[v]
-        if HAS_SOURCE:
+        if HAS_BALANCED_SOURCE:
+            for v in range(nv):
+                source_left[v, i] = predicted[v]
+        elif HAS_SOURCE:
             for v in range(nv):
                 state[v] = predicted[v] + 0.25 * slope[v]
             for k in range(aux_centre.shape[0]):
@@ -162,21 +229,40 @@ def nt_step(  # type: ignore[no-untyped-def]
     for k in range(n_dst):
         left = first + k
         right = left + 1
+        if HAS_BALANCED_SOURCE:
+            for v in range(nv):
+                predicted[v] = source_left[v, left]
+                neighbour[v] = source_left[v, right]
+            for c in range(aux_centre.shape[0]):
+                coefficients[c] = aux_centre[c, left]
+                other[c] = aux_centre[c, right]
+            _balanced_source_point(predicted, neighbour, coefficients, other, dx, params, result)
         for v in range(nv):
             value = (
                 0.5 * (src[v, left] + src[v, right])
                 + 0.125 * (slopes[v, left] - slopes[v, right])
                 - ratio * (fluxes[v, right] - fluxes[v, left])
             )
-            if HAS_SOURCE:
+            if HAS_BALANCED_SOURCE:
+                value += dt * result[v]
+            elif HAS_SOURCE:
                 value += half_dt * (source_right[v, left] + source_left[v, right])
             dst[v, NG + k] = value
+        if HAS_CORRECTION:
+            for v in range(nv):
+                state[v] = dst[v, NG + k]
+            for c in range(aux_dst.shape[0]):
+                coefficients[c] = aux_dst[c, NG + k]
+            _correct_point(state, coefficients, params, dt)
+            for v in range(nv):
+                dst[v, NG + k] = state[v]
 
 
 @njit(cache=True)
 def advance(  # type: ignore[no-untyped-def]
     w0,
     w1,
+    w2,
     n0,
     n1,
     t,
@@ -202,14 +288,16 @@ def advance(  # type: ignore[no-untyped-def]
     """Advance ``w0`` (primary family) by pairs of steps towards ``t_end``.
 
     Each pair uses one ``dt = cfl dx / a_max`` for both half steps, so the state is back on the
-    primary family after every pair; the last pair is shortened to land on ``t_end`` exactly. If
-    the Courant number of the second half step would reach 1/2, the pair is redone with a smaller
-    ``dt`` (``w0`` is untouched until the pair is accepted).
+    primary family after every pair; the last pair is shortened to land on ``t_end`` exactly. A
+    pair is redone with a smaller ``dt`` (``w0`` is untouched until the pair is accepted) if the
+    Courant number of its second half would reach 1/2, or if a depth would become negative
+    (with a depth variable the second half is written to ``w2`` and copied back when accepted).
 
     Returns ``(t, pairs, status, family, cell, dt)``.
     """
     pairs = 0
     dt = 0.0
+    target = w2 if DEPTH >= 0 else w0
     while t < t_end:
         if pairs >= max_pairs:
             return t, pairs, STATUS_PAUSED, 0, -1, dt
@@ -227,55 +315,38 @@ def advance(  # type: ignore[no-untyped-def]
             if dt < dt_floor and not last:
                 return t, pairs, STATUS_DT_FLOOR, 0, -1, dt
             nt_step(
-                w0,
-                w1,
-                n0,
-                n1,
-                -1,
-                False,
-                dt,
-                dx,
-                aux0,
-                aux0_left,
-                aux0_right,
-                params,
-                bc_left,
-                bc_right,
-                slopes,
-                fluxes,
-                source_left,
-                source_right,
-            )
+                w0, w1, n0, n1, -1, False, dt, dx, aux0, aux0_left, aux0_right, aux1, params,
+                bc_left, bc_right, slopes, fluxes, source_left, source_right,
+            )  # fmt: skip
+            if depth_is_negative(w1, n1):
+                dt *= 0.5
+                last = False
+                continue
             speed1, bad = max_speed(w1, n1, aux1, params)
             if bad >= 0:
                 return t, pairs, STATUS_INADMISSIBLE, 1, bad, dt
-            if speed1 * dt / dx < CFL_LIMIT:
-                accepted = True
-                break
-            dt = cfl * dx / speed1
-            last = False
+            if speed1 * dt / dx >= CFL_LIMIT:
+                dt = cfl * dx / speed1
+                last = False
+                continue
+            nt_step(
+                w1, target, n1, n0, 0, True, dt, dx, aux1, aux1_left, aux1_right, aux0, params,
+                bc_left, bc_right, slopes, fluxes, source_left, source_right,
+            )  # fmt: skip
+            if depth_is_negative(target, n0):
+                dt *= 0.5
+                last = False
+                continue
+            accepted = True
+            break
         if not accepted:
+            if dt < dt_floor:
+                return t, pairs, STATUS_DT_FLOOR, 0, -1, dt
             return t, pairs, STATUS_CFL_UNREACHABLE, 1, -1, dt
-        nt_step(
-            w1,
-            w0,
-            n1,
-            n0,
-            0,
-            True,
-            dt,
-            dx,
-            aux1,
-            aux1_left,
-            aux1_right,
-            params,
-            bc_left,
-            bc_right,
-            slopes,
-            fluxes,
-            source_left,
-            source_right,
-        )
+        if DEPTH >= 0:
+            for v in range(w0.shape[0]):
+                for i in range(NG, NG + n0):
+                    w0[v, i] = target[v, i]
         t = t_end if last else t + 2.0 * dt
         pairs += 1
     speed, bad = max_speed(w0, n0, aux0, params)

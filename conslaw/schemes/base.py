@@ -91,7 +91,7 @@ class Scheme(ABC):
 
     def check_admissible(self, state: State, step: int) -> None:
         """Raise InadmissibleStateError naming time, step, cell and values if ``state`` is bad."""
-        ok = self.model.is_admissible(state.q, self.model.aux(state.x))
+        ok = self.model.is_admissible(state.q, self.model.aux(state.x, self.grid.dx))
         if not ok.all():
             cell = int((~ok).nonzero()[0][0])
             values = ", ".join(
@@ -99,5 +99,5 @@ class Scheme(ABC):
             )
             raise InadmissibleStateError(
                 f"inadmissible state at t={state.t:.6g}, step {step}, cell {cell} "
-                f"(x={state.x[cell]:.6g}): {values}"
+                f"(x={state.x[cell]:.6g}): {values} (need {self.model.admissible_rule})"
             )

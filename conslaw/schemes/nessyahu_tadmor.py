@@ -83,9 +83,11 @@ class NessyahuTadmor(Scheme):
         nv = model.n_vars
         self._w0 = np.zeros((nv, n_pad))
         self._w1 = np.zeros((nv, n_pad))
+        self._w2 = np.zeros((nv, n_pad))
         self._slopes = np.zeros((nv, n_pad))
         self._fluxes = np.zeros((nv, n_pad))
-        source_width = n_pad if model.has_source else 1
+        needs_source = model.has_source or model.balanced_source_point is not None
+        source_width = n_pad if needs_source else 1
         self._source_left = np.zeros((nv, source_width))
         self._source_right = np.zeros((nv, source_width))
 
@@ -101,13 +103,17 @@ class NessyahuTadmor(Scheme):
         x = self._padded_positions(offset)
         quarter = 0.25 * self.grid.dx
         result = []
-        for points in (x, x - quarter, x + quarter):
+        for points, width in (
+            (x, self.grid.dx),
+            (x - quarter, 0.5 * self.grid.dx),
+            (x + quarter, 0.5 * self.grid.dx),
+        ):
             if self.periodic:
                 points = np.asarray(
                     self.grid.x_min + np.mod(points - self.grid.x_min, self.grid.length),
                     dtype=np.float64,
                 )
-            result.append(np.ascontiguousarray(self.model.aux(points), dtype=np.float64))
+            result.append(np.ascontiguousarray(self.model.aux(points, width), dtype=np.float64))
         return result[0], result[1], result[2]
 
     @property
@@ -150,6 +156,7 @@ class NessyahuTadmor(Scheme):
         self._check_step(state, dt)
         n_dst = self.n_primary if staggered else self.n_staggered
         aux = self._aux[0.5 if staggered else 0.0]
+        aux_dst = self._aux[0.0 if staggered else 0.5][0]
         src = self._w0
         src[:, GHOSTS : GHOSTS + n_src] = state.q
         self.kernels.nt_step(
@@ -164,6 +171,7 @@ class NessyahuTadmor(Scheme):
             aux[0],
             aux[1],
             aux[2],
+            aux_dst,
             self.params,
             self.bc_left,
             self.bc_right,
@@ -201,25 +209,49 @@ class NessyahuTadmor(Scheme):
         self.right.condition.fill_right(w, n_src, GHOSTS, staggered, self.bc_right)
         first = GHOSTS + (0 if staggered else -1)
         cells = slice(first, first + n_dst + 1)
-        slopes = self.reconstructor.slopes(
-            w[:, first - STENCIL_HALF_WIDTH : first + n_dst + 1 + STENCIL_HALF_WIDTH]
-        )
+        stencil = slice(first - STENCIL_HALF_WIDTH, first + n_dst + 1 + STENCIL_HALF_WIDTH)
+        slopes = self._reference_slopes(w, centre, stencil, cells)
         values = w[:, cells]
-        jacobian = self.model.flux_jacobian(values, centre[:, cells])
+        model = self.model
+        jacobian = model.flux_jacobian(values, centre[:, cells])
         rate = -np.einsum("rcm,cm->rm", jacobian, slopes) / self.grid.dx
-        rate += self.model.source(values, centre[:, cells])
+        rate += model.source(values, centre[:, cells])
         predicted = values + 0.5 * dt * rate
-        flux = self.model.flux(predicted, centre[:, cells])
-        source_right = self.model.source(predicted + 0.25 * slopes, right_quarter[:, cells])
-        source_left = self.model.source(predicted - 0.25 * slopes, left_quarter[:, cells])
+        flux = model.flux(predicted, centre[:, cells])
         new = (
             0.5 * (values[:, :-1] + values[:, 1:])
             + 0.125 * (slopes[:, :-1] - slopes[:, 1:])
             - dt / self.grid.dx * (flux[:, 1:] - flux[:, :-1])
-            + 0.5 * dt * (source_right[:, :-1] + source_left[:, 1:])
         )
+        if model.balanced_source_point is not None:
+            new += dt * model.balanced_source(predicted, centre[:, cells], self.grid.dx)
+        elif model.has_source:
+            source_right = model.source(predicted + 0.25 * slopes, right_quarter[:, cells])
+            source_left = model.source(predicted - 0.25 * slopes, left_quarter[:, cells])
+            new += 0.5 * dt * (source_right[:, :-1] + source_left[:, 1:])
+        if model.correct_point is not None:
+            aux_dst = self._aux[0.0 if staggered else 0.5][0][:, GHOSTS : GHOSTS + n_dst]
+            new = model.correct(new, aux_dst, dt)
         offset = 0.0 if staggered else 0.5
         return State(state.t + dt, self.grid.centres(offset, self.periodic), new, offset)
+
+    def _reference_slopes(self, w: Array, centre: Array, stencil: slice, cells: slice) -> Array:
+        """Slopes with the depth rules of the kernel (surface reconstruction, |h'| <= 4h)."""
+        model = self.model
+        data = w[:, stencil].copy()
+        if model.surface_aux is not None and model.depth_index is not None:
+            bed, _ = model.surface_aux
+            data[model.depth_index] += centre[bed, stencil]
+        slopes = self.reconstructor.slopes(data)
+        if model.depth_index is None:
+            return slopes
+        depth = w[model.depth_index, cells]
+        if model.surface_aux is not None:
+            slopes[model.depth_index] -= self.grid.dx * centre[model.surface_aux[1], cells]
+        limit = 4.0 * depth
+        slopes[model.depth_index] = np.clip(slopes[model.depth_index], -limit, limit)
+        slopes[:, depth <= 0.0] = 0.0
+        return slopes
 
     def advance(
         self, state: State, t_end: float, progress: ProgressCallback | None = None
@@ -250,6 +282,7 @@ class NessyahuTadmor(Scheme):
             t, pairs, status, family, cell, dt = self.kernels.advance(
                 w0,
                 self._w1,
+                self._w2,
                 self.n_primary,
                 self.n_staggered,
                 t,
