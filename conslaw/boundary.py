@@ -102,6 +102,10 @@ class BoundaryCondition:
         Periodic conditions must be used on both sides and change the staggered cell count.
     options : tuple of str
         Keys this condition accepts in a scene (``inflow``: ``state``).
+    ghost_coefficients : str
+        How the model's coefficients (bed, chute angle) are set in the ghost cells, matching
+        what the fill functions do to the state: ``"mirror"`` (wall), ``"wrap"`` (periodic) or
+        ``"copy"`` (the edge cell's coefficients).
     """
 
     name: str
@@ -110,6 +114,7 @@ class BoundaryCondition:
     fill_right: Callable[..., None]
     periodic: bool = False
     options: tuple[str, ...] = ()
+    ghost_coefficients: str = "copy"
     data_builder: Callable[[Model, Mapping[str, Any]], NDArray[np.float64]] | None = field(
         default=None, compare=False
     )
@@ -143,7 +148,14 @@ def _inflow_data(model: Model, options: Mapping[str, Any]) -> NDArray[np.float64
 def builtin_boundary_conditions() -> list[BoundaryCondition]:
     """The boundary conditions that ship with conslaw."""
     return [
-        BoundaryCondition("periodic", "periodic (both sides)", periodic_left, periodic_right, True),
+        BoundaryCondition(
+            "periodic",
+            "periodic (both sides)",
+            periodic_left,
+            periodic_right,
+            True,
+            ghost_coefficients="wrap",
+        ),  # fmt: skip
         BoundaryCondition("outflow", "zero-gradient outflow", outflow_left, outflow_right),
         BoundaryCondition(
             "wall",
@@ -151,6 +163,7 @@ def builtin_boundary_conditions() -> list[BoundaryCondition]:
             wall_left,
             wall_right,
             data_builder=_wall_data,
+            ghost_coefficients="mirror",
         ),
         BoundaryCondition(
             "inflow",

@@ -271,7 +271,7 @@ def validate(name: str, raw: Mapping[str, Any]) -> Scene:
             f"boundary: 'periodic' must be used on both sides, got left='{left.kind}', "
             f"right='{right.kind}'"
         )
-    initial = InitialCondition.from_table(table["initial"])
+    initial = InitialCondition.from_table(table["initial"], registry.models.get(model))
     output = _check_table(table["output"], "output", OUTPUT_KEYS)
     formats = output.get("formats", ["npz"])
     if not isinstance(formats, list) or any(f not in OUTPUT_FORMATS for f in formats):

@@ -57,18 +57,22 @@ class InitialCondition:
     options: Mapping[str, Any] = field(default_factory=dict)
 
     @classmethod
-    def from_table(cls, table: Mapping[str, Any]) -> InitialCondition:
-        """Validate a scene's ``[initial]`` table (unknown kinds and keys are errors)."""
+    def from_table(
+        cls, table: Mapping[str, Any], model_class: type[Model] | None = None
+    ) -> InitialCondition:
+        """Validate a scene's ``[initial]`` table (unknown kinds and keys are errors).
+
+        The allowed kinds are the generic ones and those the model adds (``initial_kinds``).
+        """
+        kinds = {**INITIAL_KINDS, **(model_class.initial_kinds if model_class else {})}
         if not isinstance(table, Mapping):
             raise ConfigError(f"initial: expected a table, got {table!r}")
         kind = table.get("kind")
         if kind is None:
-            raise ConfigError(
-                f"initial.kind is required; allowed: {', '.join(sorted(INITIAL_KINDS))}"
-            )
-        if kind not in INITIAL_KINDS:
-            raise ConfigError(unknown_name_message("initial.kind", str(kind), INITIAL_KINDS))
-        required, defaults, _ = INITIAL_KINDS[kind]
+            raise ConfigError(f"initial.kind is required; allowed: {', '.join(sorted(kinds))}")
+        if kind not in kinds:
+            raise ConfigError(unknown_name_message("initial.kind", str(kind), kinds))
+        required, defaults, _ = kinds[kind]
         allowed = {"kind", *required, *defaults}
         for key in table:
             if key not in allowed:
@@ -83,7 +87,9 @@ class InitialCondition:
         """Exact cell averages of the initial data on the primary grid, shape (n_vars, n)."""
         if self.kind == "piecewise-constant":
             return self._piecewise_constant(grid, model)
-        return self._sine(grid, model)
+        if self.kind == "sine":
+            return self._sine(grid, model)
+        return model.initial_cell_averages(self.kind, self.options, grid)
 
     def _piecewise_constant(self, grid: Grid, model: Model) -> Array:
         breakpoints_raw = self.options["breakpoints"]

@@ -72,8 +72,14 @@ class Model(ABC):
     variables: ClassVar[tuple[str, ...]]
     aux_names: ClassVar[tuple[str, ...]] = ()
     reflect_signs: ClassVar[tuple[float, ...]]
+    #: Sign of every coefficient row under a mirror image (a slope is odd: -1); default all +1.
+    aux_reflect_signs: ClassVar[tuple[float, ...] | None] = None
     has_source: ClassVar[bool] = False
     depth_index: ClassVar[int | None] = None
+    #: Row of the momentum ``depth * velocity`` of a depth-averaged model (with ``depth_index``):
+    #: its slope is then bounded so that the velocities at the quarter points stay within those
+    #: of the cell and its neighbours.
+    momentum_index: ClassVar[int | None] = None
     Parameters: ClassVar[type] = NoParameters
 
     flux_point: ClassVar[Callable[..., None]]
@@ -103,9 +109,10 @@ class Model(ABC):
         for key in params:
             if key not in fields:
                 raise ConfigError(
-                    unknown_name_message(f"parameter of model '{self.name}'", key, fields)
+                    f"parameters.{key}: "
+                    + unknown_name_message(f"parameter of model '{self.name}'", key, fields)
                     if fields
-                    else f"model '{self.name}' takes no parameters, got '{key}'"
+                    else f"parameters.{key}: model '{self.name}' takes no parameters"
                 )
         self.params = self.Parameters(**params)
         self._arrays: Any = None
@@ -138,6 +145,24 @@ class Model(ABC):
         """Exact cell averages of one of this model's :attr:`initial_kinds`."""
         raise NotImplementedError(f"model '{self.name}' has no initial condition '{kind}'")
 
+    def capabilities(self) -> dict[str, bool]:
+        """What this instance uses; the compiled kernels leave out everything else.
+
+        Keys: ``source`` (source term), ``balanced_source`` (staggered-cell source),
+        ``surface`` (surface reconstruction of the depth), ``correction`` (pointwise correction).
+        A model whose parameters switch a term off (a flat bed) overrides this.
+        """
+        return {
+            "source": bool(self.has_source),
+            "balanced_source": self.balanced_source_point is not None,
+            "surface": self.surface_aux is not None,
+            "correction": self.correct_point is not None,
+        }
+
+    def dry_depth(self) -> float:
+        """Depth below which a cell counts as dry (velocity 0); 0 for models without depth."""
+        return 0.0
+
     def parameter_dict(self) -> dict[str, Any]:
         """The parameters as a plain dictionary (for the resolved scene file)."""
         return dataclasses.asdict(self.params)
@@ -147,7 +172,7 @@ class Model(ABC):
         if self._arrays is None:
             from conslaw.kernels.codegen import model_array_kernels
 
-            self._arrays = model_array_kernels(type(self))
+            self._arrays = model_array_kernels(self)
         return self._arrays
 
     def _prepare(self, q: Array, aux: Array | None) -> tuple[Array, Array]:
@@ -157,9 +182,7 @@ class Model(ABC):
         if q.ndim != 2 or q.shape[0] != self.n_vars:
             raise ValueError(f"q must have shape ({self.n_vars}, n), got {q.shape}")
         if aux is None:
-            if self.n_aux:
-                raise ValueError(f"model '{self.name}' needs its coefficients (aux) here")
-            aux = np.zeros((0, q.shape[1]), dtype=np.float64)
+            aux = np.zeros((self.n_aux, q.shape[1]), dtype=np.float64)
         return q, np.ascontiguousarray(aux, dtype=np.float64)
 
     def flux(self, q: Array, aux: Array | None = None) -> Array:
@@ -187,7 +210,7 @@ class Model(ABC):
         """Source term ``s(q)`` of every column (zeros for a model without source)."""
         q, aux = self._prepare(q, aux)
         out = np.zeros_like(q)
-        if self.has_source:
+        if self.capabilities()["source"]:
             self._compiled_arrays().source_cells(q, aux, self.param_vector(), out)
         return out
 

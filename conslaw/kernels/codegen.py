@@ -144,29 +144,33 @@ def _model_bindings(model_class: type[Model]) -> dict[str, Callable[..., Any]]:
     }
 
 
-def _model_constants(model_class: type[Model]) -> dict[str, bool | int]:
-    bed, bed_slope = model_class.surface_aux or (-1, -1)
-    depth = model_class.depth_index
+def _model_constants(model: Model) -> dict[str, bool | int]:
+    uses = model.capabilities()
+    bed, bed_slope = model.surface_aux if uses["surface"] and model.surface_aux else (-1, -1)
+    depth = model.depth_index
     return {
-        "HAS_SOURCE": bool(model_class.has_source),
-        "HAS_BALANCED_SOURCE": model_class.balanced_source_point is not None,
-        "HAS_CORRECTION": model_class.correct_point is not None,
+        "HAS_SOURCE": uses["source"],
+        "HAS_BALANCED_SOURCE": uses["balanced_source"],
+        "HAS_CORRECTION": uses["correction"],
         "DEPTH": -1 if depth is None else int(depth),
+        "MOMENTUM": -1 if model.momentum_index is None else int(model.momentum_index),
+        "DRY_DEPTH": float(model.dry_depth()),
         "SURFACE_BED": int(bed),
         "SURFACE_SLOPE": int(bed_slope),
     }
 
 
-def model_array_kernels(model_class: type[Model]) -> ModuleType:
+def model_array_kernels(model: Model) -> ModuleType:
     """Compiled loops over the cells of a model's pointwise functions (its array methods)."""
     from conslaw.kernels import placeholders
 
+    model_class = type(model)
     bindings = _model_bindings(model_class)
     bindings["_balanced_source_point"] = (
         model_class.balanced_source_point or placeholders.balanced_source_point
     )
     bindings["_correct_point"] = model_class.correct_point or placeholders.correct_point
-    constants = _model_constants(model_class)
+    constants = _model_constants(model)
     return generate(
         "arrays_template.py",
         bindings,
@@ -175,11 +179,12 @@ def model_array_kernels(model_class: type[Model]) -> ModuleType:
 
 
 def nt_kernels(
-    model_class: type[Model], slope_point: Callable[..., Any], fill_left: Any, fill_right: Any
+    model: Model, slope_point: Callable[..., Any], fill_left: Any, fill_right: Any
 ) -> ModuleType:
     """The fused Nessyahu–Tadmor kernels for one model, reconstructor and boundary pair."""
     from conslaw.kernels import placeholders
 
+    model_class = type(model)
     bindings = _model_bindings(model_class)
     bindings.update(
         {
@@ -191,4 +196,4 @@ def nt_kernels(
             "_correct_point": model_class.correct_point or placeholders.correct_point,
         }
     )
-    return generate("nt_template.py", bindings, _model_constants(model_class))
+    return generate("nt_template.py", bindings, _model_constants(model))

@@ -14,8 +14,10 @@ One step maps cell family A to family B, whose cell ``k`` spans the centres of A
 Compile-time switches (constants of the generated module; unused branches are removed):
 ``HAS_SOURCE`` (quarter-point sources), ``HAS_BALANCED_SOURCE`` (the model's staggered-cell source
 replaces the quarter-point pair), ``HAS_CORRECTION`` (pointwise correction of every new cell),
-``DEPTH`` (row of a depth variable kept >= 0, or -1), ``SURFACE_BED``/``SURFACE_SLOPE`` (aux rows
-of the bed average and slope: the depth is reconstructed as depth + bed), ``DRY_DEPTH``.
+``DEPTH`` (row of a depth variable kept >= 0, or -1), ``MOMENTUM`` (row of depth * velocity, whose
+slope is bounded by the neighbouring velocities), ``DRY_DEPTH`` (velocity 0 below it),
+``SURFACE_BED``/``SURFACE_SLOPE`` (aux rows of the bed average and slope: the depth is reconstructed
+as depth + bed).
 """
 
 import numpy as np
@@ -57,6 +59,8 @@ HAS_SOURCE = False
 HAS_BALANCED_SOURCE = False
 HAS_CORRECTION = False
 DEPTH = -1
+MOMENTUM = -1
+DRY_DEPTH = 0.0
 SURFACE_BED = -1
 SURFACE_SLOPE = -1
 # --- end bindings ---
@@ -70,6 +74,11 @@ STATUS_CFL_UNREACHABLE = 4
 # Courant number that the second half of a step pair must stay below (eq. 17: strictly < 1/2).
 CFL_LIMIT = 0.5
 MAX_RETRIES = 60
+# |depth slope| <= DEPTH_SLOPE_LIMIT * depth: the half-cell averages depth -+ slope/4 keep at least
+# half the depth, so a wet cell always has mass on both sides of its centre and a small enough
+# time step keeps every new depth >= 0 (with the limit 4 a half cell can be empty while the
+# flux at the centre still drains it, and no time step helps).
+DEPTH_SLOPE_LIMIT = 2.0
 
 
 @njit(cache=True)
@@ -134,13 +143,42 @@ def cell_slope(src, v, i, dx, aux_centre):  # type: ignore[no-untyped-def]
         if depth <= 0.0:
             return 0.0
         if v == DEPTH:
-            # Both half-cell averages depth +- slope/4 stay >= 0.
-            limit = 4.0 * depth
+            # Both half-cell averages depth +- slope/4 keep at least half the depth.
+            limit = DEPTH_SLOPE_LIMIT * depth
             if slope > limit:
                 slope = limit
             elif slope < -limit:
                 slope = -limit
     return slope
+
+
+@njit(cache=True)
+def cell_velocity(src, i):  # type: ignore[no-untyped-def]
+    depth = src[DEPTH, i]
+    return src[MOMENTUM, i] / depth if depth >= DRY_DEPTH and depth > 0.0 else 0.0
+
+
+@njit(cache=True)
+def bound_momentum_slope(src, i, slope):  # type: ignore[no-untyped-def]
+    """Clamp the momentum slope so that the velocities at both quarter points,
+    ``(m +- m'/4) / (h +- h'/4)``, lie between the smallest and largest velocity of cells
+    i-1, i, i+1. The interval always contains ``m' = u_i h'``, so it is never empty."""
+    u_left = cell_velocity(src, i - 1)
+    u_centre = cell_velocity(src, i)
+    u_right = cell_velocity(src, i + 1)
+    u_min = min(u_left, u_centre, u_right)
+    u_max = max(u_left, u_centre, u_right)
+    m = src[MOMENTUM, i]
+    plus = src[DEPTH, i] + 0.25 * slope[DEPTH]
+    minus = src[DEPTH, i] - 0.25 * slope[DEPTH]
+    low = max(4.0 * (plus * u_min - m), 4.0 * (m - minus * u_max))
+    high = min(4.0 * (plus * u_max - m), 4.0 * (m - minus * u_min))
+    value = slope[MOMENTUM]
+    if value < low:
+        value = low
+    if value > high:
+        value = high
+    slope[MOMENTUM] = value
 
 
 @njit(cache=True)
@@ -188,6 +226,9 @@ def nt_step(  # type: ignore[no-untyped-def]
         for v in range(nv):
             state[v] = src[v, i]
             slope[v] = cell_slope(src, v, i, dx, aux_centre)
+        if MOMENTUM >= 0 and src[DEPTH, i] > 0.0:
+            bound_momentum_slope(src, i, slope)
+        for v in range(nv):
             slopes[v, i] = slope[v]
         for k in range(aux_centre.shape[0]):
             coefficients[k] = aux_centre[k, i]

@@ -86,7 +86,8 @@ class NessyahuTadmor(Scheme):
         self._w2 = np.zeros((nv, n_pad))
         self._slopes = np.zeros((nv, n_pad))
         self._fluxes = np.zeros((nv, n_pad))
-        needs_source = model.has_source or model.balanced_source_point is not None
+        self.uses = model.capabilities()
+        needs_source = self.uses["source"] or self.uses["balanced_source"]
         source_width = n_pad if needs_source else 1
         self._source_left = np.zeros((nv, source_width))
         self._source_right = np.zeros((nv, source_width))
@@ -99,29 +100,76 @@ class NessyahuTadmor(Scheme):
         return self.grid.x_min + self.grid.dx * (index - GHOSTS + shift)
 
     def _aux_family(self, offset: float) -> tuple[Array, Array, Array]:
-        """Model coefficients at the centres and quarter points of one padded cell family."""
+        """Model coefficients at the centres and quarter points of one padded cell family.
+
+        Ghost cells get coefficients by the rule of their boundary condition (mirror image at a
+        wall, wrapped if periodic, the edge cell's otherwise), so that a state the boundary
+        condition reproduces (a lake at rest) sees a consistent bed in its ghosts.
+        """
         x = self._padded_positions(offset)
+        n = self.grid.n_cells_at(offset, self.periodic)
+        model = self.model
+        centre = x.copy()
+        direction = np.ones_like(x)  # +1: left quarter at centre - dx/4; -1 for mirror images
+        signs = np.ones((model.n_aux, x.size))
+        odd = np.array(model.aux_reflect_signs or (1.0,) * model.n_aux, dtype=np.float64)
+        sides = (
+            (self.left.condition, slice(0, GHOSTS), self.grid.x_min, GHOSTS),
+            (self.right.condition, slice(GHOSTS + n, x.size), self.grid.x_max, GHOSTS + n - 1),
+        )
+        for condition, ghosts, boundary, edge in sides:
+            rule = condition.ghost_coefficients
+            if rule == "wrap":
+                centre[ghosts] = self.grid.x_min + np.mod(
+                    x[ghosts] - self.grid.x_min, self.grid.length
+                )
+            elif rule == "mirror":
+                centre[ghosts] = 2.0 * boundary - x[ghosts]
+                direction[ghosts] = -1.0
+                signs[:, ghosts] = odd[:, None]
+            else:
+                centre[ghosts] = x[edge]
         quarter = 0.25 * self.grid.dx
         result = []
         for points, width in (
-            (x, self.grid.dx),
-            (x - quarter, 0.5 * self.grid.dx),
-            (x + quarter, 0.5 * self.grid.dx),
+            (centre, self.grid.dx),
+            (centre - direction * quarter, 0.5 * self.grid.dx),
+            (centre + direction * quarter, 0.5 * self.grid.dx),
         ):
-            if self.periodic:
-                points = np.asarray(
-                    self.grid.x_min + np.mod(points - self.grid.x_min, self.grid.length),
-                    dtype=np.float64,
-                )
-            result.append(np.ascontiguousarray(self.model.aux(points, width), dtype=np.float64))
+            values = np.asarray(model.aux(points, width), dtype=np.float64) * signs
+            result.append(np.ascontiguousarray(values))
+        if offset != 0.0 and not self.periodic:
+            self._symmetric_wall_cells(result, n, odd)
         return result[0], result[1], result[2]
+
+    def _symmetric_wall_cells(self, aux: list[Array], n: int, odd: Array) -> None:
+        """Staggered cells centred on a wall are half outside the domain, where the state is the
+        mirror image: their coefficients are those of the inner half cell (odd rows, slopes,
+        vanish) and the outer quarter is the mirror of the inner one."""
+        quarter = 0.25 * self.grid.dx
+        half = 0.5 * self.grid.dx
+        for condition, index, inward in (
+            (self.left.condition, GHOSTS, 1.0),
+            (self.right.condition, GHOSTS + n - 1, -1.0),
+        ):
+            if condition.ghost_coefficients != "mirror":
+                continue
+            wall = self.grid.x_min if inward > 0 else self.grid.x_max
+            inner = np.asarray(self.model.aux(np.array([wall + inward * quarter]), half))[:, 0]
+            centre, left_quarter, right_quarter = aux
+            centre[:, index] = np.where(odd < 0, 0.0, inner)
+            inner_quarter, outer_quarter = (
+                (right_quarter, left_quarter) if inward > 0 else (left_quarter, right_quarter)
+            )
+            inner_quarter[:, index] = inner
+            outer_quarter[:, index] = inner * odd
 
     @property
     def kernels(self) -> Any:
         """The generated compiled kernels (built on first use)."""
         if self._kernels is None:
             self._kernels = nt_kernels(
-                type(self.model),
+                self.model,
                 self.reconstructor.slope_point,
                 self.left.condition.fill_left,
                 self.right.condition.fill_right,
@@ -223,13 +271,13 @@ class NessyahuTadmor(Scheme):
             + 0.125 * (slopes[:, :-1] - slopes[:, 1:])
             - dt / self.grid.dx * (flux[:, 1:] - flux[:, :-1])
         )
-        if model.balanced_source_point is not None:
+        if self.uses["balanced_source"]:
             new += dt * model.balanced_source(predicted, centre[:, cells], self.grid.dx)
-        elif model.has_source:
+        elif self.uses["source"]:
             source_right = model.source(predicted + 0.25 * slopes, right_quarter[:, cells])
             source_left = model.source(predicted - 0.25 * slopes, left_quarter[:, cells])
             new += 0.5 * dt * (source_right[:, :-1] + source_left[:, 1:])
-        if model.correct_point is not None:
+        if self.uses["correction"]:
             aux_dst = self._aux[0.0 if staggered else 0.5][0][:, GHOSTS : GHOSTS + n_dst]
             new = model.correct(new, aux_dst, dt)
         offset = 0.0 if staggered else 0.5
@@ -239,19 +287,46 @@ class NessyahuTadmor(Scheme):
         """Slopes with the depth rules of the kernel (surface reconstruction, |h'| <= 4h)."""
         model = self.model
         data = w[:, stencil].copy()
-        if model.surface_aux is not None and model.depth_index is not None:
+        surface = self.uses["surface"] and model.surface_aux is not None
+        if surface and model.depth_index is not None:
             bed, _ = model.surface_aux
             data[model.depth_index] += centre[bed, stencil]
         slopes = self.reconstructor.slopes(data)
         if model.depth_index is None:
             return slopes
         depth = w[model.depth_index, cells]
-        if model.surface_aux is not None:
+        if surface:
             slopes[model.depth_index] -= self.grid.dx * centre[model.surface_aux[1], cells]
-        limit = 4.0 * depth
+        limit = self.kernels.DEPTH_SLOPE_LIMIT * depth
         slopes[model.depth_index] = np.clip(slopes[model.depth_index], -limit, limit)
         slopes[:, depth <= 0.0] = 0.0
+        if model.momentum_index is not None:
+            self._bound_momentum_slopes(w, cells, slopes)
         return slopes
+
+    def _bound_momentum_slopes(self, w: Array, cells: slice, slopes: Array) -> None:
+        """numpy version of the kernel's ``bound_momentum_slope``."""
+        model = self.model
+        d, m = model.depth_index, model.momentum_index
+        assert d is not None and m is not None
+        dry = model.dry_depth()
+        depth_all, momentum_all = w[d], w[m]
+        safe = np.where((depth_all >= dry) & (depth_all > 0.0), depth_all, 1.0)
+        u = np.where((depth_all >= dry) & (depth_all > 0.0), momentum_all / safe, 0.0)
+        start, stop = cells.start, cells.stop
+        u_min = np.minimum(
+            np.minimum(u[start - 1 : stop - 1], u[start:stop]), u[start + 1 : stop + 1]
+        )
+        u_max = np.maximum(
+            np.maximum(u[start - 1 : stop - 1], u[start:stop]), u[start + 1 : stop + 1]
+        )
+        h, q = depth_all[cells], momentum_all[cells]
+        plus = h + 0.25 * slopes[d]
+        minus = h - 0.25 * slopes[d]
+        low = np.maximum(4.0 * (plus * u_min - q), 4.0 * (q - minus * u_max))
+        high = np.minimum(4.0 * (plus * u_max - q), 4.0 * (q - minus * u_min))
+        bounded = np.minimum(np.maximum(slopes[m], low), high)
+        slopes[m] = np.where(h > 0.0, bounded, slopes[m])
 
     def advance(
         self, state: State, t_end: float, progress: ProgressCallback | None = None

@@ -1,0 +1,153 @@
+"""Shallow water: dam breaks against Stoker and Ritter, lake at rest, positivity, bad input."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import conslaw
+from conslaw.errors import ConfigError
+from conslaw.initial import InitialCondition
+from conslaw.schemes import nessyahu_tadmor
+from conslaw.simulation import build
+from conslaw_models.shallow_water import ShallowWater
+from conslaw_models.shallow_water_exact import DamBreak
+
+
+def dam_break(h_left: float, h_right: float, g: float = 1.0) -> DamBreak:
+    initial = InitialCondition.from_table(
+        {
+            "kind": "piecewise-constant",
+            "breakpoints": [0.0],
+            "states": [[h_left, 0.0], [h_right, 0.0]],
+        },
+        ShallowWater,
+    )
+    exact = DamBreak.from_initial(initial, g)
+    assert exact is not None
+    return exact
+
+
+def test_stoker_middle_state_satisfies_both_wave_relations() -> None:
+    exact = dam_break(3.0, 1.0)
+    h_m, u_m = exact.middle_state()
+    c_l, c_m = np.sqrt(3.0), np.sqrt(h_m)
+    assert u_m == pytest.approx(2 * (c_l - c_m), rel=1e-14)
+    # Rankine–Hugoniot for mass and momentum across the shock into (1, 0).
+    s = h_m * u_m / (h_m - 1.0)
+    assert s * (h_m - 1.0) == pytest.approx(h_m * u_m, rel=1e-14)
+    assert s * (h_m * u_m) == pytest.approx(h_m * u_m**2 + 0.5 * (h_m**2 - 1.0), rel=1e-12)
+
+
+def test_dam_break_cell_averages_integrate_the_point_values() -> None:
+    from scipy.integrate import quad
+
+    for exact in (dam_break(3.0, 1.0), dam_break(1.0, 0.0), dam_break(1.0, 3.0)):
+        edges = np.linspace(-5.0, 5.0, 24)
+        averages = exact.cell_averages(edges, 2.0)
+        kinks, _ = exact._structure(2.0)
+        kinks = exact.x0 + (-kinks if exact._mirrored else kinks)
+        for v in range(2):
+            for i in range(edges.size - 1):
+                value, _ = quad(
+                    lambda x, v=v: exact.point_values(np.array([x]), 2.0)[v, 0],
+                    edges[i], edges[i + 1], limit=200, epsabs=1e-13,
+                    points=[k for k in kinks if edges[i] < k < edges[i + 1]] or None,
+                )  # fmt: skip
+                assert averages[v, i] == pytest.approx(value / (edges[i + 1] - edges[i]), abs=1e-12)
+
+
+def test_mirrored_dam_break_is_the_mirror_image() -> None:
+    x = np.linspace(-4.9, 4.9, 99)
+    left = dam_break(3.0, 1.0).point_values(x, 1.5)
+    right = dam_break(1.0, 3.0).point_values(-x, 1.5)
+    np.testing.assert_allclose(left[0], right[0], atol=1e-14)
+    np.testing.assert_allclose(left[1], -right[1], atol=1e-14)
+
+
+@pytest.mark.parametrize(
+    ("scene", "reconstructor", "bound"),
+    [
+        ("dam-break-wet", "weno5", 4e-4),
+        ("dam-break-wet", "mc", 4e-4),
+        ("dam-break-dry", "mc", 6e-4),
+    ],
+)
+def test_dam_break_accuracy_at_1600_cells(scene: str, reconstructor: str, bound: float) -> None:
+    """Reference bounds; PyClaw's classic MC-Roe gives 3.3e-4 (Stoker) and 5.6e-4 (Ritter)."""
+    errors = {}
+    for n in (400, 1600):
+        errors[n] = conslaw.run(scene, n_cells=n, reconstructor=reconstructor).headline_error()
+    order = np.log(errors[400] / errors[1600]) / np.log(4.0)
+    print(
+        f"{scene} {reconstructor}: L1(400)={errors[400]:.3e} L1(1600)={errors[1600]:.3e} order {order:.2f}"
+    )
+    assert errors[1600] <= bound
+
+
+def test_ritter_depth_is_never_negative_at_any_step(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Report after every step pair and check both the primary and the staggered states."""
+    monkeypatch.setattr(nessyahu_tadmor, "CELL_UPDATES_PER_CALL", 1)
+    scene = conslaw.load_scene("dam-break-dry", {"n_cells": 400, "reconstructor": "weno5"})
+    model, grid, scheme, initial, _ = build(scene)
+    ghosts = nessyahu_tadmor.GHOSTS
+    checked = []
+
+    def check(t: float, steps: int) -> None:
+        primary = scheme._w0[0, ghosts : ghosts + scheme.n_primary]
+        staggered = scheme._w1[0, ghosts : ghosts + scheme.n_staggered]
+        assert primary.min() >= 0.0 and staggered.min() >= 0.0, (t, steps)
+        checked.append(steps)
+
+    result = scheme.advance(initial, 2.0, check)
+    assert len(checked) >= result.steps // 2
+    assert result.state.q[0].min() >= 0.0
+
+
+def test_lake_at_rest_stays_at_rest_for_1000_steps() -> None:
+    result = conslaw.run("lake-at-rest", t_end=25.0, reconstructor="mc")
+    assert result.steps >= 1000
+    model = result.model
+    bed = model.aux(result.grid.centres(), result.grid.dx)[0]
+    surface0 = result.initial.q[0] + bed
+    surface = result.final.q[0] + bed
+    print(f"lake at rest: {result.steps} steps, max|hu| = {np.abs(result.final.q[1]).max():.2e}")
+    assert np.abs(result.final.q[1]).max() <= 1e-12
+    assert np.abs(surface - surface0).max() <= 1e-12
+
+
+@pytest.mark.parametrize("reconstructor", ["none", "minmod", "superbee", "weno5"])
+def test_lake_at_rest_with_every_kind_of_slope(reconstructor: str) -> None:
+    result = conslaw.run("lake-at-rest", t_end=5.0, n_cells=100, reconstructor=reconstructor)
+    assert np.abs(result.final.q[1]).max() <= 1e-12
+
+
+def test_a_flat_bed_compiles_no_source() -> None:
+    model = ShallowWater(g=2.0)
+    assert model.capabilities()["source"] is False
+    bumpy = ShallowWater(bump_height=0.3)
+    assert bumpy.capabilities() == {
+        "source": True, "balanced_source": True, "surface": True, "correction": True,
+    }  # fmt: skip
+
+
+def test_dry_states_have_no_velocity_and_no_nan() -> None:
+    model = ShallowWater()
+    q = np.array([[0.0, 1e-12, 1.0], [0.0, 0.0, 2.0]])
+    flux = model.flux(q)
+    assert np.all(np.isfinite(flux))
+    np.testing.assert_allclose(model.max_wave_speed(q), [0.0, np.sqrt(1e-12), 2.0 + 1.0])
+
+
+@pytest.mark.parametrize(
+    ("overrides", "fragment"),
+    [
+        ({"parameters__g": 0.0}, "gravity must be > 0"),
+        ({"parameters__g": -9.81}, "gravity must be > 0"),
+        ({"initial__states": [[-1.0, 0.0], [1.0, 0.0]]}, "not an admissible state"),
+        ({"parameters__gravity": 1.0}, "parameters.gravity: unknown parameter .* allowed: .*, g"),
+    ],
+)
+def test_bad_shallow_water_input(overrides: dict[str, object], fragment: str) -> None:
+    with pytest.raises(ConfigError, match=fragment):
+        conslaw.run("dam-break-wet", **overrides)
