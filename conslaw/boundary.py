@@ -155,7 +155,7 @@ def builtin_boundary_conditions() -> list[BoundaryCondition]:
             periodic_right,
             True,
             ghost_coefficients="wrap",
-        ),  # fmt: skip
+        ),
         BoundaryCondition("outflow", "zero-gradient outflow", outflow_left, outflow_right),
         BoundaryCondition(
             "wall",

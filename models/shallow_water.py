@@ -21,7 +21,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from numba import njit
@@ -156,7 +156,7 @@ class ShallowWater(Model):
     surface_aux = (BED, BED_SLOPE)
     Parameters = ShallowWaterParameters
     admissible_rule = "finite h >= 0, and hu = 0 where h < dry_tolerance"
-    initial_kinds = {
+    initial_kinds: ClassVar[dict[str, tuple[tuple[str, ...], dict[str, Any], str]]] = {
         "still-water": (
             ("surface",),
             {"velocity": 0.0},
@@ -214,7 +214,7 @@ class ShallowWater(Model):
         return np.ascontiguousarray(np.vstack([0.5 * (left + right), 2.0 * (right - left) / dx]))
 
     def initial_cell_averages(self, kind: str, options: Mapping[str, Any], grid: Grid) -> Array:
-        """``still-water``: ``h = max(surface - b, 0)`` with ``b`` the exact cell average of the bed."""
+        """``still-water``: ``h = max(surface - b, 0)``, ``b`` the cell average of the bed."""
         surface = options["surface"]
         velocity_value = options["velocity"]
         for key, value in (("surface", surface), ("velocity", velocity_value)):

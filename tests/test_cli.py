@@ -46,11 +46,18 @@ def test_list_shows_every_registered_name() -> None:
     for name in ("none", "minmod", "superbee", "vanleer", "mc", "weno3", "weno5"):
         assert f"  {name} " in out
     assert "schemes (1):" in out and "nessyahu-tadmor" in out
-    assert "burgers " in out
+    assert "  burgers " in out and "  shallow-water " in out
     assert "boundary conditions (4):" in out
     for name in ("periodic", "outflow", "wall", "inflow"):
         assert f"  {name} " in out
-    assert "scenes (2):" in out and "burgers-riemann" in out and "burgers-sine" in out
+    for scene in (
+        "burgers-riemann",
+        "burgers-sine",
+        "dam-break-wet",
+        "dam-break-dry",
+        "lake-at-rest",
+    ):
+        assert f"  {scene} " in out
 
 
 def test_run_writes_npz_resolved_toml_and_png(tmp_path: Path) -> None:

@@ -50,7 +50,7 @@ def test_dam_break_cell_averages_integrate_the_point_values() -> None:
         for v in range(2):
             for i in range(edges.size - 1):
                 value, _ = quad(
-                    lambda x, v=v: exact.point_values(np.array([x]), 2.0)[v, 0],
+                    lambda x, v=v, exact=exact: exact.point_values(np.array([x]), 2.0)[v, 0],
                     edges[i], edges[i + 1], limit=200, epsabs=1e-13,
                     points=[k for k in kinks if edges[i] < k < edges[i + 1]] or None,
                 )  # fmt: skip
@@ -80,7 +80,8 @@ def test_dam_break_accuracy_at_1600_cells(scene: str, reconstructor: str, bound:
         errors[n] = conslaw.run(scene, n_cells=n, reconstructor=reconstructor).headline_error()
     order = np.log(errors[400] / errors[1600]) / np.log(4.0)
     print(
-        f"{scene} {reconstructor}: L1(400)={errors[400]:.3e} L1(1600)={errors[1600]:.3e} order {order:.2f}"
+        f"{scene} {reconstructor}: L1(400)={errors[400]:.3e} "
+        f"L1(1600)={errors[1600]:.3e} order {order:.2f}"
     )
     assert errors[1600] <= bound
 
@@ -89,7 +90,7 @@ def test_ritter_depth_is_never_negative_at_any_step(monkeypatch: pytest.MonkeyPa
     """Report after every step pair and check both the primary and the staggered states."""
     monkeypatch.setattr(nessyahu_tadmor, "CELL_UPDATES_PER_CALL", 1)
     scene = conslaw.load_scene("dam-break-dry", {"n_cells": 400, "reconstructor": "weno5"})
-    model, grid, scheme, initial, _ = build(scene)
+    _, _, scheme, initial, _ = build(scene)
     ghosts = nessyahu_tadmor.GHOSTS
     checked = []
 
