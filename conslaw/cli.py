@@ -131,6 +131,34 @@ def _command_run(args: argparse.Namespace) -> int:
     return 0
 
 
+def _names(text: str | None) -> list[str] | None:
+    return None if text is None else [part.strip() for part in text.split(",") if part.strip()]
+
+
+def _command_convergence(args: argparse.Namespace) -> int:
+    from conslaw.convergence import convergence_study, write_study
+    from conslaw.errors import ConfigError
+    from conslaw.io import prepare_output_dir
+
+    try:
+        cells = [int(part) for part in args.cells.split(",") if part.strip()]
+    except ValueError:
+        raise ConfigError(
+            f"--cells: expected integers separated by commas, got '{args.cells}'"
+        ) from None
+    out = Path(args.out) if args.out else Path("conslaw-output") / "convergence"
+    prepare_output_dir(out)
+    study = convergence_study(
+        args.scene, cells, _names(args.reconstructor), _names(args.scheme), args.repeats,
+        _overrides(args.set),
+    )  # fmt: skip
+    print(study.table())
+    print(study.summary())
+    for path in write_study(study, out):
+        print(f"wrote {path}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser (exposed for the documentation)."""
     parser = _Parser(prog="conslaw", description="Hyperbolic conservation laws in 1D.")
@@ -149,6 +177,18 @@ def build_parser() -> argparse.ArgumentParser:
         if name == "run":
             sub.add_argument("--out", help="output folder (default conslaw-output/SCENE)")
             sub.add_argument("--no-plot", action="store_true", help="do not write the PNG")
+    study = commands.add_parser(
+        "convergence", help="errors, observed orders and run times over a list of N"
+    )
+    study.add_argument("scene", help="a scene whose model has an exact solution")
+    study.add_argument("--cells", required=True, help="comma-separated N, e.g. 100,200,400")
+    study.add_argument(
+        "--reconstructor", help="comma-separated reconstructors (default: the scene's)"
+    )
+    study.add_argument("--scheme", help="comma-separated schemes (default: the scene's)")
+    study.add_argument("--repeats", type=int, default=3, help="solves per N (median reported)")
+    study.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+    study.add_argument("--out", help="output folder (default conslaw-output/convergence)")
     return parser
 
 
@@ -156,7 +196,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``conslaw`` console script."""
     parser = build_parser()
     args = parser.parse_args(argv)
-    handlers = {"list": _command_list, "show": _command_show, "run": _command_run}
+    handlers = {
+        "list": _command_list,
+        "show": _command_show,
+        "run": _command_run,
+        "convergence": _command_convergence,
+    }
     try:
         return handlers[args.command](args)
     except ConslawError as error:

@@ -144,7 +144,7 @@ def _model_bindings(model_class: type[Model]) -> dict[str, Callable[..., Any]]:
     }
 
 
-def _model_constants(model: Model) -> dict[str, bool | int]:
+def _model_constants(model: Model) -> dict[str, bool | int | float]:
     uses = model.capabilities()
     bed, bed_slope = model.surface_aux if uses["surface"] and model.surface_aux else (-1, -1)
     depth = model.depth_index

@@ -284,19 +284,18 @@ class NessyahuTadmor(Scheme):
         return State(state.t + dt, self.grid.centres(offset, self.periodic), new, offset)
 
     def _reference_slopes(self, w: Array, centre: Array, stencil: slice, cells: slice) -> Array:
-        """Slopes with the depth rules of the kernel (surface reconstruction, |h'| <= 4h)."""
+        """Slopes with the depth rules of the kernel (surface reconstruction, depth limit)."""
         model = self.model
         data = w[:, stencil].copy()
-        surface = self.uses["surface"] and model.surface_aux is not None
-        if surface and model.depth_index is not None:
-            bed, _ = model.surface_aux
-            data[model.depth_index] += centre[bed, stencil]
+        surface_rows = model.surface_aux if self.uses["surface"] else None
+        if surface_rows is not None and model.depth_index is not None:
+            data[model.depth_index] += centre[surface_rows[0], stencil]
         slopes = self.reconstructor.slopes(data)
         if model.depth_index is None:
             return slopes
         depth = w[model.depth_index, cells]
-        if surface:
-            slopes[model.depth_index] -= self.grid.dx * centre[model.surface_aux[1], cells]
+        if surface_rows is not None:
+            slopes[model.depth_index] -= self.grid.dx * centre[surface_rows[1], cells]
         limit = self.kernels.DEPTH_SLOPE_LIMIT * depth
         slopes[model.depth_index] = np.clip(slopes[model.depth_index], -limit, limit)
         slopes[:, depth <= 0.0] = 0.0

@@ -1,0 +1,208 @@
+"""Convergence and work-precision studies: error against N and against run time.
+
+For every (scheme, reconstructor) and every N the scene is solved ``repeats`` times; the table
+holds the steps, the median (min, max) wall time of the solve (set-up, compilation and output
+excluded), the reference §6 errors of variable 0 against the exact cell averages, and the observed
+L1 order between successive N. The first solve of every combination (JIT compilation or loading
+the compiled kernels from the cache) is timed on its own and reported apart, as is the time to
+import conslaw in a fresh process.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import statistics
+import subprocess
+import sys
+import time
+from collections.abc import Mapping, Sequence
+from dataclasses import asdict, dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+from conslaw.analysis import observed_orders
+from conslaw.config import Scene, load_scene
+from conslaw.errors import ConfigError
+from conslaw.simulation import simulate
+
+
+@dataclass(frozen=True)
+class ConvergenceRow:
+    """One solve of the study (times in seconds)."""
+
+    scheme: str
+    reconstructor: str
+    n_cells: int
+    steps: int
+    solve_median: float
+    solve_min: float
+    solve_max: float
+    l1: float
+    l2: float
+    linf: float
+    order_l1: float | None
+
+
+@dataclass
+class ConvergenceStudy:
+    """All rows of a study, with the one-off costs measured apart."""
+
+    scene: str
+    t_end: float
+    repeats: int
+    rows: list[ConvergenceRow] = field(default_factory=list)
+    warmup_seconds: dict[str, float] = field(default_factory=dict)
+    import_seconds: float | None = None
+
+    def table(self) -> str:
+        """Markdown table of the rows."""
+        lines = [
+            "| scheme | reconstructor | N | steps | solve s (median, min-max) | L1 | L2 | Linf "
+            "| order L1 |",
+            "|---|---|---|---|---|---|---|---|---|",
+        ]
+        for r in self.rows:
+            order = "-" if r.order_l1 is None else f"{r.order_l1:.2f}"
+            lines.append(
+                f"| {r.scheme} | {r.reconstructor} | {r.n_cells} | {r.steps} | "
+                f"{r.solve_median:.4f} ({r.solve_min:.4f}-{r.solve_max:.4f}) | {r.l1:.3e} | "
+                f"{r.l2:.3e} | {r.linf:.3e} | {order} |"
+            )
+        return "\n".join(lines)
+
+    def summary(self) -> str:
+        """The one-off costs, one line each."""
+        lines = [
+            f"first solve of {name} (compile or load from cache): {seconds:.2f} s"
+            for name, seconds in self.warmup_seconds.items()
+        ]
+        if self.import_seconds is not None:
+            lines.append(f"import conslaw in a fresh process: {self.import_seconds:.2f} s")
+        return "\n".join(lines)
+
+
+def measure_import_seconds() -> float | None:
+    """Wall time of ``import conslaw`` and the built-in models in a fresh interpreter."""
+    code = (
+        "import time; t = time.perf_counter(); import conslaw, conslaw.simulation; "
+        "from conslaw import registry; registry.models.names(); "
+        "print(time.perf_counter() - t)"
+    )
+    try:
+        out = subprocess.run(
+            [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=True
+        )
+        return float(out.stdout.strip())
+    except (subprocess.SubprocessError, ValueError, OSError):
+        return None
+
+
+def convergence_study(
+    scene: str | Path,
+    cells: Sequence[int],
+    reconstructors: Sequence[str] | None = None,
+    schemes: Sequence[str] | None = None,
+    repeats: int = 3,
+    overrides: Mapping[str, Any] | None = None,
+    measure_import: bool = True,
+) -> ConvergenceStudy:
+    """Run the study (see the module docstring); refuses scenes without an exact solution."""
+    cells = sorted({int(n) for n in cells})
+    if not cells or cells[0] < 4:
+        raise ConfigError(f"--cells: expected integers >= 4, got {cells}")
+    if not isinstance(repeats, int) or repeats < 1:
+        raise ConfigError(f"--repeats: expected an integer >= 1, got {repeats!r}")
+    base = load_scene(scene, overrides)
+    base = replace(base, output_times=(base.t_end,), exact=True)
+    reconstructors = list(reconstructors or [base.reconstructor])
+    schemes = list(schemes or [base.scheme])
+    # Validate every combination before any work is done.
+    variants: list[Scene] = []
+    for scheme in schemes:
+        for reconstructor in reconstructors:
+            variants.append(
+                load_scene(
+                    scene, {**(overrides or {}), "scheme": scheme, "reconstructor": reconstructor}
+                )
+            )
+    study = ConvergenceStudy(str(base.name), base.t_end, repeats)
+    for variant in variants:
+        key = f"{variant.scheme}/{variant.reconstructor}"
+        started = time.perf_counter()
+        first = simulate(replace(variant, n_cells=cells[0], output_times=(variant.t_end,)))
+        study.warmup_seconds[key] = time.perf_counter() - started
+        if first.errors[-1] is None:
+            raise ConfigError(
+                f"scene '{base.name}' has no exact solution to measure against; "
+                "convergence needs one"
+            )
+        errors: list[float] = []
+        for n in cells:
+            sized = replace(variant, n_cells=n, output_times=(variant.t_end,))
+            timings = []
+            for _ in range(repeats):
+                result = simulate(sized)
+                timings.append(result.solve_seconds)
+            norms = result.errors[-1]
+            assert norms is not None
+            errors.append(norms.l1)
+            order = (
+                None
+                if len(errors) < 2
+                else observed_orders(cells[len(errors) - 2 : len(errors)], errors[-2:])[0]
+            )
+            study.rows.append(
+                ConvergenceRow(
+                    variant.scheme, variant.reconstructor, n, result.steps,
+                    statistics.median(timings), min(timings), max(timings),
+                    norms.l1, norms.l2, norms.linf, order,
+                )
+            )  # fmt: skip
+    if measure_import:
+        study.import_seconds = measure_import_seconds()
+    return study
+
+
+def _csv_text(study: ConvergenceStudy) -> str:
+    buffer = io.StringIO()
+    writer = csv.DictWriter(buffer, fieldnames=list(asdict(study.rows[0])))
+    writer.writeheader()
+    for row in study.rows:
+        writer.writerow(asdict(row))
+    return buffer.getvalue()
+
+
+def write_study(study: ConvergenceStudy, folder: Path) -> list[Path]:
+    """Write ``convergence.md`` (table), ``.csv``, ``.json`` and the two PNGs; atomic writes."""
+    from conslaw.io import atomic_write_bytes, prepare_output_dir, write_figure
+    from conslaw.plotting import error_against_cells_figure, error_against_time_figure
+
+    folder = prepare_output_dir(folder)
+    stem = f"convergence-{study.scene}"
+    document = {
+        "scene": study.scene,
+        "t_end": study.t_end,
+        "repeats": study.repeats,
+        "warmup_seconds": study.warmup_seconds,
+        "import_seconds": study.import_seconds,
+        "rows": [asdict(row) for row in study.rows],
+    }
+    written = [
+        atomic_write_bytes(
+            folder / f"{stem}.md", (study.table() + "\n\n" + study.summary() + "\n").encode()
+        ),
+        atomic_write_bytes(folder / f"{stem}.csv", _csv_text(study).encode()),
+        atomic_write_bytes(folder / f"{stem}.json", json.dumps(document, indent=2).encode()),
+    ]
+    import matplotlib.pyplot as plt
+
+    for name, build in (
+        (f"{stem}-error-vs-time.png", error_against_time_figure),
+        (f"{stem}-error-vs-cells.png", error_against_cells_figure),
+    ):
+        figure = build(study)
+        written.append(write_figure(folder / name, figure))
+        plt.close(figure)
+    return written
