@@ -94,6 +94,14 @@ class Model(ABC):
     #: Optional ``correct_point(q, aux, params, dt)``: in-place pointwise correction of every
     #: new cell average after each step (dry cells, Coulomb stopping).
     correct_point: ClassVar[Callable[..., None] | None] = None
+    #: Optional ``resistance_point(q, aux, params) -> float >= 0``: magnitude of a Coulomb-type
+    #: resistance opposing the momentum (``momentum_index``); it can stop the flow but never
+    #: accelerate or reverse it.
+    resistance_point: ClassVar[Callable[..., float] | None] = None
+    #: Optional ``coefficients_point(q, slope, aux, params)``: sets per-cell coefficients in
+    #: ``aux`` (in place) from the cell's state and reconstructed slopes before the flux and
+    #: Jacobian are evaluated (the Savage–Hutter earth-pressure coefficient).
+    coefficients_point: ClassVar[Callable[..., None] | None] = None
     #: ``(bed average, bed slope)`` rows of ``aux``: the depth variable is then reconstructed as
     #: the surface ``depth + bed`` (surface gradient method), its slope being
     #: ``slope(surface) - dx * bed slope``.
@@ -157,6 +165,8 @@ class Model(ABC):
             "balanced_source": self.balanced_source_point is not None,
             "surface": self.surface_aux is not None,
             "correction": self.correct_point is not None,
+            "resistance": self.resistance_point is not None,
+            "dynamic_coefficients": self.coefficients_point is not None,
         }
 
     def dry_depth(self) -> float:
@@ -226,6 +236,23 @@ class Model(ABC):
         q, aux = self._prepare(q, aux)
         out = q.copy()
         self._compiled_arrays().correct_cells(out, aux, self.param_vector(), dt)
+        return out
+
+    def resistance(self, q: Array, aux: Array | None = None) -> Array:
+        """``resistance_point`` of every column (zeros without resistance), shape ``(n,)``."""
+        q, aux = self._prepare(q, aux)
+        out = np.zeros(q.shape[1])
+        if self.capabilities()["resistance"]:
+            self._compiled_arrays().resistance_cells(q, aux, self.param_vector(), out)
+        return out
+
+    def dynamic_coefficients(self, q: Array, slopes: Array, aux: Array) -> Array:
+        """Copy of ``aux`` with ``coefficients_point`` applied column by column."""
+        q, aux = self._prepare(q, aux)
+        out = aux.copy()
+        if self.capabilities()["dynamic_coefficients"]:
+            slopes = np.ascontiguousarray(slopes, dtype=np.float64)
+            self._compiled_arrays().coefficients_cells(q, slopes, out, self.param_vector())
         return out
 
     def is_admissible(self, q: Array, aux: Array | None = None) -> NDArray[np.bool_]:

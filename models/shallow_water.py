@@ -187,6 +187,8 @@ class ShallowWater(Model):
             "balanced_source": self.has_bed,
             "surface": self.has_bed,
             "correction": True,
+            "resistance": False,
+            "dynamic_coefficients": False,
         }
 
     def bed(self, x: Array) -> Array:

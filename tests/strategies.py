@@ -14,8 +14,7 @@ from __future__ import annotations
 from functools import cache
 
 import numpy as np
-from hypothesis import reject
-from hypothesis import strategies as st
+from hypothesis import reject, strategies as st
 from hypothesis.extra import numpy as hnp
 from numpy.typing import NDArray
 

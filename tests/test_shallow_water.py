@@ -129,6 +129,7 @@ def test_a_flat_bed_compiles_no_source() -> None:
     bumpy = ShallowWater(bump_height=0.3)
     assert bumpy.capabilities() == {
         "source": True, "balanced_source": True, "surface": True, "correction": True,
+        "resistance": False, "dynamic_coefficients": False,
     }  # fmt: skip
 
 

@@ -9,29 +9,21 @@ from numba import njit
 # --- bindings ---
 from conslaw.kernels.placeholders import (
     admissible_point as _admissible_point,
-)
-from conslaw.kernels.placeholders import (
     balanced_source_point as _balanced_source_point,
-)
-from conslaw.kernels.placeholders import (
+    coefficients_point as _coefficients_point,
     correct_point as _correct_point,
-)
-from conslaw.kernels.placeholders import (
     flux_point as _flux_point,
-)
-from conslaw.kernels.placeholders import (
     jacobian_point as _jacobian_point,
-)
-from conslaw.kernels.placeholders import (
     max_speed_point as _max_speed_point,
-)
-from conslaw.kernels.placeholders import (
+    resistance_point as _resistance_point,
     source_point as _source_point,
 )
 
 HAS_SOURCE = False
 HAS_BALANCED_SOURCE = False
 HAS_CORRECTION = False
+HAS_RESISTANCE = False
+HAS_DYNAMIC_COEFFICIENTS = False
 # --- end bindings ---
 
 
@@ -146,3 +138,35 @@ def correct_cells(q, aux, params, dt):  # type: ignore[no-untyped-def]
             _correct_point(state, coefficients, params, dt)
         for v in range(nv):
             q[v, i] = state[v]
+
+
+@njit(cache=True)
+def resistance_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
+    nv = q.shape[0]
+    state = np.empty(nv)
+    coefficients = np.empty(aux.shape[0])
+    for i in range(q.shape[1]):
+        for v in range(nv):
+            state[v] = q[v, i]
+        for k in range(aux.shape[0]):
+            coefficients[k] = aux[k, i]
+        if HAS_RESISTANCE:
+            out[i] = _resistance_point(state, coefficients, params)
+
+
+@njit(cache=True)
+def coefficients_cells(q, slopes, aux, params):  # type: ignore[no-untyped-def]
+    nv = q.shape[0]
+    state = np.empty(nv)
+    slope = np.empty(nv)
+    coefficients = np.empty(aux.shape[0])
+    for i in range(q.shape[1]):
+        for v in range(nv):
+            state[v] = q[v, i]
+            slope[v] = slopes[v, i]
+        for k in range(aux.shape[0]):
+            coefficients[k] = aux[k, i]
+        if HAS_DYNAMIC_COEFFICIENTS:
+            _coefficients_point(state, slope, coefficients, params)
+        for k in range(aux.shape[0]):
+            aux[k, i] = coefficients[k]

@@ -152,6 +152,8 @@ def _model_constants(model: Model) -> dict[str, bool | int | float]:
         "HAS_SOURCE": uses["source"],
         "HAS_BALANCED_SOURCE": uses["balanced_source"],
         "HAS_CORRECTION": uses["correction"],
+        "HAS_RESISTANCE": uses["resistance"],
+        "HAS_DYNAMIC_COEFFICIENTS": uses["dynamic_coefficients"],
         "DEPTH": -1 if depth is None else int(depth),
         "MOMENTUM": -1 if model.momentum_index is None else int(model.momentum_index),
         "DRY_DEPTH": float(model.dry_depth()),
@@ -170,12 +172,16 @@ def model_array_kernels(model: Model) -> ModuleType:
         model_class.balanced_source_point or placeholders.balanced_source_point
     )
     bindings["_correct_point"] = model_class.correct_point or placeholders.correct_point
-    constants = _model_constants(model)
-    return generate(
-        "arrays_template.py",
-        bindings,
-        {key: constants[key] for key in ("HAS_SOURCE", "HAS_BALANCED_SOURCE", "HAS_CORRECTION")},
+    bindings["_resistance_point"] = model_class.resistance_point or placeholders.resistance_point
+    bindings["_coefficients_point"] = (
+        model_class.coefficients_point or placeholders.coefficients_point
     )
+    constants = _model_constants(model)
+    keys = (
+        "HAS_SOURCE", "HAS_BALANCED_SOURCE", "HAS_CORRECTION", "HAS_RESISTANCE",
+        "HAS_DYNAMIC_COEFFICIENTS",
+    )  # fmt: skip
+    return generate("arrays_template.py", bindings, {key: constants[key] for key in keys})
 
 
 def nt_kernels(
@@ -194,6 +200,9 @@ def nt_kernels(
             "_balanced_source_point": model_class.balanced_source_point
             or placeholders.balanced_source_point,
             "_correct_point": model_class.correct_point or placeholders.correct_point,
+            "_resistance_point": model_class.resistance_point or placeholders.resistance_point,
+            "_coefficients_point": model_class.coefficients_point
+            or placeholders.coefficients_point,
         }
     )
     return generate("nt_template.py", bindings, _model_constants(model))

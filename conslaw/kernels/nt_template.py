@@ -12,12 +12,19 @@ One step maps cell family A to family B, whose cell ``k`` spans the centres of A
     w^{n+1/2} = w + dt/2 (-A(w) w'/dx + s(w))                    (eq. 15)
 
 Compile-time switches (constants of the generated module; unused branches are removed):
-``HAS_SOURCE`` (quarter-point sources), ``HAS_BALANCED_SOURCE`` (the model's staggered-cell source
-replaces the quarter-point pair), ``HAS_CORRECTION`` (pointwise correction of every new cell),
-``DEPTH`` (row of a depth variable kept >= 0, or -1), ``MOMENTUM`` (row of depth * velocity, whose
-slope is bounded by the neighbouring velocities), ``DRY_DEPTH`` (velocity 0 below it),
-``SURFACE_BED``/``SURFACE_SLOPE`` (aux rows of the bed average and slope: the depth is reconstructed
-as depth + bed).
+
+- ``HAS_SOURCE``: quarter-point sources.
+- ``HAS_BALANCED_SOURCE``: the model's staggered-cell source replaces the quarter-point pair.
+- ``HAS_RESISTANCE``: a Coulomb-type resistance of magnitude ``resistance_point`` opposing the
+  momentum, integrated at the quarter points like the sources and applied with the stopping rule
+  ``m = 0 if |m*| <= dt R else m* - sgn(m*) dt R`` (never reverses the flow).
+- ``HAS_DYNAMIC_COEFFICIENTS``: the model sets per-cell coefficients from the cell's slopes (the
+  earth-pressure coefficient) before the Jacobian and the flux are evaluated.
+- ``HAS_CORRECTION``: pointwise correction of every new cell (dry cells).
+- ``DEPTH``: row of a depth variable kept >= 0 (or -1); ``MOMENTUM``: row of depth * velocity,
+  whose slope is bounded by the neighbouring velocities; ``DRY_DEPTH``: velocity 0 below it.
+- ``SURFACE_BED``/``SURFACE_SLOPE``: aux rows of the bed average and slope; the depth is then
+  reconstructed as depth + bed.
 """
 
 import numpy as np
@@ -26,38 +33,24 @@ from numba import njit
 # --- bindings ---
 from conslaw.kernels.placeholders import (
     admissible_point as _admissible_point,
-)
-from conslaw.kernels.placeholders import (
     balanced_source_point as _balanced_source_point,
-)
-from conslaw.kernels.placeholders import (
+    coefficients_point as _coefficients_point,
     correct_point as _correct_point,
-)
-from conslaw.kernels.placeholders import (
     fill_left as _fill_left,
-)
-from conslaw.kernels.placeholders import (
     fill_right as _fill_right,
-)
-from conslaw.kernels.placeholders import (
     flux_point as _flux_point,
-)
-from conslaw.kernels.placeholders import (
     jacobian_point as _jacobian_point,
-)
-from conslaw.kernels.placeholders import (
     max_speed_point as _max_speed_point,
-)
-from conslaw.kernels.placeholders import (
+    resistance_point as _resistance_point,
     slope_point as _slope_point,
-)
-from conslaw.kernels.placeholders import (
     source_point as _source_point,
 )
 
 HAS_SOURCE = False
 HAS_BALANCED_SOURCE = False
 HAS_CORRECTION = False
+HAS_RESISTANCE = False
+HAS_DYNAMIC_COEFFICIENTS = False
 DEPTH = -1
 MOMENTUM = -1
 DRY_DEPTH = 0.0
@@ -182,6 +175,15 @@ def bound_momentum_slope(src, i, slope):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
+def resist(momentum, impulse):  # type: ignore[no-untyped-def]
+    """Apply a resistive impulse ``impulse >= 0`` against ``momentum``: it stops the flow
+    exactly (returns 0.0) when it is at least as large, and never reverses it."""
+    if abs(momentum) <= impulse:
+        return 0.0
+    return momentum - impulse if momentum > 0.0 else momentum + impulse
+
+
+@njit(cache=True)
 def nt_step(  # type: ignore[no-untyped-def]
     src,
     dst,
@@ -202,10 +204,12 @@ def nt_step(  # type: ignore[no-untyped-def]
     fluxes,
     source_left,
     source_right,
+    resistance,
 ):
     """One staggered step from ``src`` (n_src cells) into ``dst`` (n_dst cells), in place.
 
-    ``source_left`` holds the predicted states when the model has a balanced source.
+    ``source_left`` holds the predicted states when the model has a balanced source;
+    ``resistance[0/1, i]`` the resistance at the left/right quarter point of cell i.
     """
     nv = src.shape[0]
     fill_ghosts(src, n_src, src_staggered, bc_left, bc_right)
@@ -232,6 +236,8 @@ def nt_step(  # type: ignore[no-untyped-def]
             slopes[v, i] = slope[v]
         for k in range(aux_centre.shape[0]):
             coefficients[k] = aux_centre[k, i]
+        if HAS_DYNAMIC_COEFFICIENTS:
+            _coefficients_point(state, slope, coefficients, params)
         _jacobian_point(state, coefficients, params, matrix)
         for r in range(nv):
             acc = 0.0
@@ -244,27 +250,37 @@ def nt_step(  # type: ignore[no-untyped-def]
                 rate[v] += result[v]
         for v in range(nv):
             predicted[v] = src[v, i] + half_dt * rate[v]
+        if HAS_RESISTANCE:
+            predicted[MOMENTUM] = resist(
+                predicted[MOMENTUM], half_dt * _resistance_point(state, coefficients, params)
+            )
         _flux_point(predicted, coefficients, params, result)
         for v in range(nv):
             fluxes[v, i] = result[v]
         if HAS_BALANCED_SOURCE:
             for v in range(nv):
                 source_left[v, i] = predicted[v]
-        elif HAS_SOURCE:
+        elif HAS_SOURCE or HAS_RESISTANCE:
             for v in range(nv):
                 state[v] = predicted[v] + 0.25 * slope[v]
             for k in range(aux_centre.shape[0]):
                 coefficients[k] = aux_right_quarter[k, i]
-            _source_point(state, coefficients, params, result)
-            for v in range(nv):
-                source_right[v, i] = result[v]
+            if HAS_SOURCE:
+                _source_point(state, coefficients, params, result)
+                for v in range(nv):
+                    source_right[v, i] = result[v]
+            if HAS_RESISTANCE:
+                resistance[1, i] = _resistance_point(state, coefficients, params)
             for v in range(nv):
                 state[v] = predicted[v] - 0.25 * slope[v]
             for k in range(aux_centre.shape[0]):
                 coefficients[k] = aux_left_quarter[k, i]
-            _source_point(state, coefficients, params, result)
-            for v in range(nv):
-                source_left[v, i] = result[v]
+            if HAS_SOURCE:
+                _source_point(state, coefficients, params, result)
+                for v in range(nv):
+                    source_left[v, i] = result[v]
+            if HAS_RESISTANCE:
+                resistance[0, i] = _resistance_point(state, coefficients, params)
     # Pass 2: the staggered cell averages (eq. 10).
     ratio = dt / dx
     for k in range(n_dst):
@@ -289,6 +305,10 @@ def nt_step(  # type: ignore[no-untyped-def]
             elif HAS_SOURCE:
                 value += half_dt * (source_right[v, left] + source_left[v, right])
             dst[v, NG + k] = value
+        if HAS_RESISTANCE:
+            # Eqs. (13)-(14) for the resistance, applied with the stopping rule (reference §1).
+            impulse = half_dt * (resistance[1, left] + resistance[0, right])
+            dst[MOMENTUM, NG + k] = resist(dst[MOMENTUM, NG + k], impulse)
         if HAS_CORRECTION:
             for v in range(nv):
                 state[v] = dst[v, NG + k]
@@ -325,6 +345,7 @@ def advance(  # type: ignore[no-untyped-def]
     fluxes,
     source_left,
     source_right,
+    resistance,
 ):
     """Advance ``w0`` (primary family) by pairs of steps towards ``t_end``.
 
@@ -357,7 +378,7 @@ def advance(  # type: ignore[no-untyped-def]
                 return t, pairs, STATUS_DT_FLOOR, 0, -1, dt
             nt_step(
                 w0, w1, n0, n1, -1, False, dt, dx, aux0, aux0_left, aux0_right, aux1, params,
-                bc_left, bc_right, slopes, fluxes, source_left, source_right,
+                bc_left, bc_right, slopes, fluxes, source_left, source_right, resistance,
             )  # fmt: skip
             if depth_is_negative(w1, n1):
                 dt *= 0.5
@@ -372,7 +393,7 @@ def advance(  # type: ignore[no-untyped-def]
                 continue
             nt_step(
                 w1, target, n1, n0, 0, True, dt, dx, aux1, aux1_left, aux1_right, aux0, params,
-                bc_left, bc_right, slopes, fluxes, source_left, source_right,
+                bc_left, bc_right, slopes, fluxes, source_left, source_right, resistance,
             )  # fmt: skip
             if depth_is_negative(target, n0):
                 dt *= 0.5

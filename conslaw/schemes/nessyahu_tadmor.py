@@ -31,6 +31,12 @@ CELL_UPDATES_PER_CALL = 4_000_000
 DT_FLOOR_RELATIVE = 1e-14
 
 
+def _resist(momentum: Array, impulse: Array) -> Array:
+    """numpy version of the kernel's ``resist``: stop if ``|m| <= impulse``, never reverse."""
+    reduced = momentum - np.sign(momentum) * impulse
+    return np.where(np.abs(momentum) <= impulse, 0.0, reduced)
+
+
 def validate_cfl(cfl: Any) -> float:
     """The CFL number as a float in (0, 1/2) (paper eq. 17), or a ConfigError."""
     if isinstance(cfl, bool) or not isinstance(cfl, int | float) or not np.isfinite(cfl):
@@ -91,6 +97,7 @@ class NessyahuTadmor(Scheme):
         source_width = n_pad if needs_source else 1
         self._source_left = np.zeros((nv, source_width))
         self._source_right = np.zeros((nv, source_width))
+        self._resistance = np.zeros((2, n_pad if self.uses["resistance"] else 1))
 
     # ------------------------------------------------------------------ set-up
     def _padded_positions(self, offset: float) -> Array:
@@ -227,6 +234,7 @@ class NessyahuTadmor(Scheme):
             self._fluxes,
             self._source_left,
             self._source_right,
+            self._resistance,
         )
         offset = 0.0 if staggered else 0.5
         return State(
@@ -261,11 +269,18 @@ class NessyahuTadmor(Scheme):
         slopes = self._reference_slopes(w, centre, stencil, cells)
         values = w[:, cells]
         model = self.model
-        jacobian = model.flux_jacobian(values, centre[:, cells])
+        coefficients = model.dynamic_coefficients(values, slopes, centre[:, cells])
+        jacobian = model.flux_jacobian(values, coefficients)
         rate = -np.einsum("rcm,cm->rm", jacobian, slopes) / self.grid.dx
-        rate += model.source(values, centre[:, cells])
+        rate += model.source(values, coefficients)
         predicted = values + 0.5 * dt * rate
-        flux = model.flux(predicted, centre[:, cells])
+        momentum = model.momentum_index
+        if self.uses["resistance"]:
+            assert momentum is not None
+            predicted[momentum] = _resist(
+                predicted[momentum], 0.5 * dt * model.resistance(values, coefficients)
+            )
+        flux = model.flux(predicted, coefficients)
         new = (
             0.5 * (values[:, :-1] + values[:, 1:])
             + 0.125 * (slopes[:, :-1] - slopes[:, 1:])
@@ -277,6 +292,12 @@ class NessyahuTadmor(Scheme):
             source_right = model.source(predicted + 0.25 * slopes, right_quarter[:, cells])
             source_left = model.source(predicted - 0.25 * slopes, left_quarter[:, cells])
             new += 0.5 * dt * (source_right[:, :-1] + source_left[:, 1:])
+        if self.uses["resistance"]:
+            assert momentum is not None
+            resistance_right = model.resistance(predicted + 0.25 * slopes, right_quarter[:, cells])
+            resistance_left = model.resistance(predicted - 0.25 * slopes, left_quarter[:, cells])
+            impulse = 0.5 * dt * (resistance_right[:-1] + resistance_left[1:])
+            new[momentum] = _resist(new[momentum], impulse)
         if self.uses["correction"]:
             aux_dst = self._aux[0.0 if staggered else 0.5][0][:, GHOSTS : GHOSTS + n_dst]
             new = model.correct(new, aux_dst, dt)
@@ -378,6 +399,7 @@ class NessyahuTadmor(Scheme):
                 self._fluxes,
                 self._source_left,
                 self._source_right,
+                self._resistance,
             )
             steps += 2 * pairs
             if status == self.kernels.STATUS_PAUSED:
