@@ -97,11 +97,15 @@ def write_run(result: RunResult, folder: Path) -> list[Path]:
         )
     written.append(write_toml(folder / "scene.toml", scene.to_table()))
     if scene.plot:
-        from conslaw.plotting import profiles_figure
-
-        figure = profiles_figure(result)
-        written.append(write_figure(folder / "profiles.png", figure))
         import matplotlib.pyplot as plt
 
-        plt.close(figure)
+        from conslaw.plotting import chute_figure, profiles_figure
+
+        figures = [("profiles.png", profiles_figure)]
+        if getattr(result.model, "chute", None) is not None:
+            figures.append(("chute.png", chute_figure))
+        for name, build in figures:
+            figure = build(result)
+            written.append(write_figure(folder / name, figure))
+            plt.close(figure)
     return written

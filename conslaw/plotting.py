@@ -14,34 +14,44 @@ if TYPE_CHECKING:
     from conslaw.simulation import RunResult
 
 
+def _display_rows(model: Any, q: Any) -> list[tuple[str, Any]]:
+    """What to plot: the conserved variables, or depth and velocity for depth-averaged models."""
+    d, m = model.depth_index, model.momentum_index
+    if d is None or m is None:
+        return [(name, q[v]) for v, name in enumerate(model.variables)]
+    h = q[d]
+    wet = h > max(model.dry_depth(), 1e-12)
+    u = np.full_like(h, np.nan)
+    u[wet] = q[m][wet] / h[wet]
+    return [(model.variables[d], h), ("u", u)]
+
+
 def profiles_figure(result: RunResult) -> Any:
-    """One panel per conserved variable: numerical cell averages (markers) at every output
-    time, the exact solution (black line) where the model has one."""
+    """Profiles at every output time (markers) against the exact solution (black line):
+    the conserved variables, or depth and velocity for a depth-averaged model (paper Fig. 4)."""
     model = result.model
-    n_vars = model.n_vars
-    figure, axes = plt.subplots(n_vars, 1, figsize=(8, 3.2 * n_vars), sharex=True, squeeze=False)
+    rows = len(_display_rows(model, result.states[0].q))
+    figure, axes = plt.subplots(rows, 1, figsize=(8, 3.2 * rows), sharex=True, squeeze=False)
     colours = plt.cm.viridis(np.linspace(0.0, 0.85, len(result.states)))
     fine = np.linspace(result.grid.x_min, result.grid.x_max, 4001)
-    for v, name in enumerate(model.variables):
-        axis = axes[v, 0]
-        for state, colour in zip(result.states, colours, strict=True):
-            axis.plot(
-                state.x,
-                state.q[v],
-                "o",
-                ms=2.5,
-                color=colour,
-                label=f"{result.scene.scheme}, t={state.t:g}",
-            )
-            if result.exact_solution is not None:
+    for state, colour in zip(result.states, colours, strict=True):
+        label = f"{result.scene.scheme}, t={state.t:g}"
+        for axis, (name, values) in zip(axes[:, 0], _display_rows(model, state.q), strict=True):
+            axis.plot(state.x, values, "o", ms=2.5, color=colour, label=label)
+            axis.set_ylabel(name)
+        if result.exact_solution is not None:
+            exact = result.exact_solution.point_values(fine, state.t)
+            with np.errstate(invalid="ignore", divide="ignore"):
+                exact_rows = _display_rows(model, exact)
+            for axis, (_, values) in zip(axes[:, 0], exact_rows, strict=True):
                 axis.plot(
                     fine,
-                    result.exact_solution.point_values(fine, state.t)[v],
+                    values,
                     "k-",
                     lw=0.9,
                     label="exact" if state is result.states[-1] else None,
                 )
-        axis.set_ylabel(name)
+    for axis in axes[:, 0]:
         axis.grid(alpha=0.3)
     axes[0, 0].legend(fontsize=8, loc="best")
     axes[-1, 0].set_xlabel("x")
@@ -50,6 +60,39 @@ def profiles_figure(result: RunResult) -> Any:
     axes[0, 0].set_title(
         f"{result.scene.name}: {model.name}, {result.scene.reconstructor}, "
         f"N={result.grid.n_cells}{subtitle}",
+        fontsize=10,
+    )
+    figure.tight_layout()
+    return figure
+
+
+def chute_figure(result: RunResult, exaggeration: float = 3.0) -> Any:
+    """Paper Fig. 3 style: one panel per output time, the chute drawn in elevation (not arc
+    length) and the flowing mass on it, its depth laid off normal to the bed and exaggerated by
+    ``exaggeration`` so that it is visible against the chute."""
+    model = result.model
+    chute = model.chute
+    x = result.grid.centres()
+    horizontal, vertical = chute.elevation_profile(x)
+    angle = chute.zeta(x)
+    count = len(result.states)
+    figure, axes = plt.subplots(count, 1, figsize=(9, 1.6 * count), sharex=True, squeeze=False)
+    for axis, state in zip(axes[:, 0], result.states, strict=True):
+        h = exaggeration * state.q[model.depth_index]
+        top_x = horizontal - h * np.sin(angle)
+        top_z = vertical + h * np.cos(angle)
+        axis.plot(horizontal, vertical, "k-", lw=1.0)
+        axis.fill(
+            np.concatenate([horizontal, top_x[::-1]]),
+            np.concatenate([vertical, top_z[::-1]]),
+            color="tab:orange", alpha=0.8, lw=0,
+        )  # fmt: skip
+        axis.set_ylabel("z")
+        axis.text(0.98, 0.85, f"t = {state.t:g}", transform=axis.transAxes, ha="right", fontsize=9)
+    axes[-1, 0].set_xlabel("horizontal position")
+    axes[0, 0].set_title(
+        f"{result.scene.name}: {model.name}, {result.scene.reconstructor}, "
+        f"N={result.grid.n_cells} (depth drawn x{exaggeration:g}, normal to the bed)",
         fontsize=10,
     )
     figure.tight_layout()

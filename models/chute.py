@@ -1,0 +1,202 @@
+"""Chute geometry in chute-fitted coordinates: inclination ``zeta(x)`` and ``lambda kappa(x)``.
+
+``x`` is the arc length along the bed (downslope), ``zeta`` the inclination angle (positive where
+the bed descends in +x), and ``lambda kappa = -d zeta / dx`` the scaled curvature (reference §1).
+
+Three kinds:
+
+- ``plane``: constant ``zeta``.
+- ``paper``: the chute of Tai et al. (2001) Fig. 3: ``zeta_start`` up to ``transition_start``,
+  falling linearly to ``zeta_end`` at ``transition_end``, constant after.
+- ``table``: a CSV file with a header, either ``x,zeta`` (arc length, degrees) or ``x,z``
+  (horizontal position, elevation: a terrain profile, e.g. from a DEM). For ``x,z`` the arc length
+  and the angle are derived from a smoothing spline of the profile (scipy's
+  ``make_smoothing_spline``, smoothing chosen by generalised cross-validation), so that noise in
+  the elevations does not become noise in the curvature. For ``x,zeta`` the angle is interpolated
+  by a monotone cubic (PCHIP); its derivative gives the curvature. Outside the table the chute
+  continues with the end angles and no curvature.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.interpolate import PchipInterpolator, make_smoothing_spline
+
+from conslaw.errors import ConfigError
+
+Array = NDArray[np.float64]
+
+
+class Chute:
+    """Base class: ``zeta(x)`` in radians and ``curvature(x) = -d zeta/dx``."""
+
+    def zeta(self, x: Array) -> Array:
+        """Inclination angle in radians at arc length x."""
+        raise NotImplementedError
+
+    def curvature(self, x: Array) -> Array:
+        """``lambda kappa = -d zeta / dx`` at arc length x."""
+        raise NotImplementedError
+
+    def elevation_profile(self, x: Array) -> tuple[Array, Array]:
+        """Horizontal position and elevation of the bed at arc lengths x (for drawing), from
+        ``dX/dx = cos zeta``, ``dZ/dx = -sin zeta`` integrated from ``x[0]`` (trapezoid rule on a
+        fine grid)."""
+        x = np.asarray(x, dtype=np.float64)
+        fine = np.linspace(x.min(), x.max(), 20 * x.size + 1)
+        angle = self.zeta(fine)
+        step = np.diff(fine)
+        horizontal = np.concatenate(
+            [[0.0], np.cumsum(0.5 * step * (np.cos(angle[1:]) + np.cos(angle[:-1])))]
+        )
+        vertical = np.concatenate(
+            [[0.0], -np.cumsum(0.5 * step * (np.sin(angle[1:]) + np.sin(angle[:-1])))]
+        )
+        return np.interp(x, fine, horizontal), np.interp(x, fine, vertical)
+
+
+def _angle(value: float, name: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+        raise ConfigError(f"parameters.{name}: expected an angle in degrees, got {value!r}")
+    if not -90.0 < value < 90.0:
+        raise ConfigError(f"parameters.{name}: angle must be in (-90, 90) degrees, got {value}")
+    return math.radians(value)
+
+
+@dataclass(frozen=True)
+class PlaneChute(Chute):
+    """Constant inclination (radians)."""
+
+    angle: float
+
+    def zeta(self, x: Array) -> Array:
+        return np.full(np.shape(x), self.angle)
+
+    def curvature(self, x: Array) -> Array:
+        return np.zeros(np.shape(x))
+
+
+@dataclass(frozen=True)
+class PaperChute(Chute):
+    """Plane, linear transition of the angle, flat (or other) run-out (angles in radians)."""
+
+    angle_start: float
+    transition_start: float
+    transition_end: float
+    angle_end: float
+
+    def zeta(self, x: Array) -> Array:
+        return np.interp(
+            np.asarray(x, dtype=np.float64),
+            [self.transition_start, self.transition_end],
+            [self.angle_start, self.angle_end],
+        )
+
+    def curvature(self, x: Array) -> Array:
+        x = np.asarray(x, dtype=np.float64)
+        rate = (self.angle_start - self.angle_end) / (self.transition_end - self.transition_start)
+        inside = (x > self.transition_start) & (x < self.transition_end)
+        return np.where(inside, rate, 0.0)
+
+
+class TableChute(Chute):
+    """A chute from a CSV table (``x,zeta`` in degrees, or a profile ``x,z``)."""
+
+    def __init__(self, path: str | Path) -> None:
+        path = Path(path)
+        try:
+            data = np.genfromtxt(path, delimiter=",", names=True, dtype=float)
+        except (OSError, ValueError) as error:
+            raise ConfigError(f"parameters.chute_file: cannot read '{path}': {error}") from None
+        names = tuple(data.dtype.names or ())
+        if names not in (("x", "zeta"), ("x", "z")):
+            raise ConfigError(
+                f"parameters.chute_file: '{path}' needs a header 'x,zeta' (degrees) or 'x,z' "
+                f"(elevation), got {','.join(names) or 'none'}"
+            )
+        data = np.atleast_1d(data)
+        x = np.asarray(data["x"], dtype=np.float64)
+        values = np.asarray(data[names[1]], dtype=np.float64)
+        if x.size < 4:
+            raise ConfigError(
+                f"parameters.chute_file: '{path}' needs at least 4 rows, got {x.size}"
+            )
+        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(values))):
+            raise ConfigError(f"parameters.chute_file: '{path}' has empty or non-finite entries")
+        if np.any(np.diff(x) <= 0):
+            raise ConfigError(f"parameters.chute_file: x must be strictly increasing in '{path}'")
+        if names[1] == "zeta":
+            if np.any(np.abs(values) >= 90):
+                raise ConfigError(f"parameters.chute_file: angles must be in (-90, 90) in '{path}'")
+            self._s = x
+            self._angle = PchipInterpolator(x, np.radians(values), extrapolate=False)
+        else:
+            spline = make_smoothing_spline(x, values)
+            slope = spline.derivative()
+            fine = np.linspace(x[0], x[-1], 50 * x.size + 1)
+            metric = np.sqrt(1.0 + slope(fine) ** 2)
+            arc = np.concatenate(
+                [[0.0], np.cumsum(0.5 * np.diff(fine) * (metric[1:] + metric[:-1]))]
+            )
+            arc += x[0]
+            self._s = arc
+            self._angle = PchipInterpolator(arc, -np.arctan(slope(fine)), extrapolate=False)
+        self._rate = self._angle.derivative()
+
+    def zeta(self, x: Array) -> Array:
+        x = np.clip(np.asarray(x, dtype=np.float64), self._s[0], self._s[-1])
+        return np.asarray(self._angle(x))
+
+    def curvature(self, x: Array) -> Array:
+        x = np.asarray(x, dtype=np.float64)
+        inside = (x >= self._s[0]) & (x <= self._s[-1])
+        rate = np.asarray(self._rate(np.clip(x, self._s[0], self._s[-1])))
+        return np.where(inside, -rate, 0.0)
+
+
+CHUTE_KINDS = ("plane", "paper", "table")
+
+
+def make_chute(
+    kind: str,
+    zeta: float,
+    transition_start: float,
+    transition_end: float,
+    zeta_end: float,
+    chute_file: str,
+) -> Chute:
+    """Build a chute from the Savage–Hutter parameters (angles in degrees)."""
+    if kind == "plane":
+        return PlaneChute(_angle(zeta, "zeta"))
+    if kind == "paper":
+        for name, value in (
+            ("transition_start", transition_start),
+            ("transition_end", transition_end),
+        ):
+            if (
+                isinstance(value, bool)
+                or not isinstance(value, int | float)
+                or not math.isfinite(value)
+            ):
+                raise ConfigError(f"parameters.{name}: expected a number, got {value!r}")
+        if not transition_end > transition_start:
+            raise ConfigError(
+                "parameters.transition_end must be > transition_start, got "
+                f"{transition_start}, {transition_end}"
+            )
+        return PaperChute(
+            _angle(zeta, "zeta"), float(transition_start), float(transition_end),
+            _angle(zeta_end, "zeta_end"),
+        )  # fmt: skip
+    if kind == "table":
+        if not chute_file:
+            raise ConfigError("parameters.chute_file is required with chute = 'table'")
+        return TableChute(chute_file)
+    raise ConfigError(
+        f"parameters.chute: unknown chute '{kind}'; allowed: {', '.join(CHUTE_KINDS)}"
+    )

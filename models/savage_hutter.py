@@ -1,0 +1,324 @@
+"""Savage–Hutter avalanche equations in conservative form (Tai et al. 2001, eqs. 1–8).
+
+    h_t + m_x = 0
+    m_t + (m^2/h + beta h^2/2)_x = h s_x,     beta = eps cos(zeta) K,
+    s_x = sin zeta - sgn(u) tan delta (cos zeta + lambda kappa u^2)
+
+with ``K = K_act`` where the flow extends (``du/dx > 0``) and ``K_pass`` where it contracts
+(eqs. 5–6). Coulomb friction is set-valued at ``u = 0``: it can hold material at rest but never
+accelerate or reverse it (reference §1). The NT kernel integrates the driving force ``h sin zeta``
+and the friction magnitude ``h tan delta (cos zeta + lambda kappa u^2)`` at the same quarter points
+(eqs. 13–14) and applies the friction with the stopping rule
+``m = 0 if |m*| <= dt F else m* - sgn(m*) dt F``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import numpy as np
+from numba import njit
+from numpy.typing import NDArray
+
+from conslaw.errors import ConfigError
+from conslaw.exact import ExactSolution, piecewise_cell_averages
+from conslaw.grid import Grid
+from conslaw.initial import InitialCondition
+from conslaw.model import Model
+from conslaw_models.chute import CHUTE_KINDS, Chute, PlaneChute, make_chute
+from conslaw_models.savage_hutter_exact import SimilaritySolution
+
+Array = NDArray[np.float64]
+
+# Packed parameters (see SavageHutter.param_vector).
+EPSILON, K_ACTIVE, K_PASSIVE, TAN_DELTA, DRY = 0, 1, 2, 3, 4
+# Rows of the coefficients: sin zeta, cos zeta, lambda kappa, and the earth-pressure coefficient K
+# (set per cell by coefficients_point; K_active in the static coefficients).
+SIN, COS, CURVATURE, K = 0, 1, 2, 3
+
+
+def earth_pressure_coefficients(phi: float, delta: float) -> tuple[float, float]:
+    """``(K_act, K_pass) = 2 sec^2 phi (1 -+ sqrt(1 - cos^2 phi sec^2 delta)) - 1`` (eq. 6).
+
+    Angles in radians, ``0 <= delta <= phi < pi/2``. For ``delta = phi`` both equal
+    ``2 sec^2 phi - 1``.
+    """
+    secant2 = 1.0 / math.cos(phi) ** 2
+    root = math.sqrt(max(0.0, 1.0 - math.cos(phi) ** 2 / math.cos(delta) ** 2))
+    return 2.0 * secant2 * (1.0 - root) - 1.0, 2.0 * secant2 * (1.0 + root) - 1.0
+
+
+@njit(cache=True)
+def velocity(h, m, dry_tolerance):  # type: ignore[no-untyped-def]
+    """``u = m / h``, and 0 in a dry cell."""
+    return m / h if h >= dry_tolerance and h > 0.0 else 0.0
+
+
+@njit(cache=True)
+def flux_point(q, aux, params, out):  # type: ignore[no-untyped-def]
+    """``f = (m, m u + beta h^2 / 2)``, ``beta = eps cos zeta K`` (eq. 8)."""
+    h = q[0]
+    u = velocity(h, q[1], params[DRY])
+    beta = params[EPSILON] * aux[COS] * aux[K]
+    out[0] = q[1]
+    out[1] = q[1] * u + 0.5 * beta * h * h
+
+
+@njit(cache=True)
+def jacobian_point(q, aux, params, out):  # type: ignore[no-untyped-def]
+    """``A = [[0, 1], [beta h - u^2, 2 u]]``."""
+    u = velocity(q[0], q[1], params[DRY])
+    out[0, 0] = 0.0
+    out[0, 1] = 1.0
+    out[1, 0] = params[EPSILON] * aux[COS] * aux[K] * q[0] - u * u
+    out[1, 1] = 2.0 * u
+
+
+@njit(cache=True)
+def max_speed_point(q, aux, params):  # type: ignore[no-untyped-def]
+    """``|u| + sqrt(beta_max h)`` with the larger of K_act, K_pass (eq. 18, on the safe side)."""
+    u = velocity(q[0], q[1], params[DRY])
+    k_max = max(params[K_ACTIVE], params[K_PASSIVE], aux[K])
+    return abs(u) + math.sqrt(max(params[EPSILON] * aux[COS] * k_max * q[0], 0.0))
+
+
+@njit(cache=True)
+def source_point(q, aux, params, out):  # type: ignore[no-untyped-def]
+    """Driving part of the source, ``(0, h sin zeta)``."""
+    out[0] = 0.0
+    out[1] = q[0] * aux[SIN]
+
+
+@njit(cache=True)
+def resistance_point(q, aux, params):  # type: ignore[no-untyped-def]
+    """Coulomb friction magnitude ``h tan delta (cos zeta + lambda kappa u^2)`` (eq. 3), and 0
+    where the normal pressure vanishes (``cos zeta + lambda kappa u^2 < 0``)."""
+    h = max(q[0], 0.0)
+    u = velocity(q[0], q[1], params[DRY])
+    normal = aux[COS] + aux[CURVATURE] * u * u
+    return params[TAN_DELTA] * h * normal if normal > 0.0 else 0.0
+
+
+@njit(cache=True)
+def coefficients_point(q, slope, aux, params):  # type: ignore[no-untyped-def]
+    """Earth-pressure coefficient of the cell (eq. 5): ``K_act`` if the reconstructed velocity
+    slope ``u' = (m' - u h') / h`` is >= 0, ``K_pass`` if it is < 0 (``K_act`` in dry cells)."""
+    h = q[0]
+    k = params[K_ACTIVE]
+    if h >= params[DRY] and h > 0.0:
+        u = q[1] / h
+        if slope[1] - u * slope[0] < 0.0:
+            k = params[K_PASSIVE]
+    aux[K] = k
+
+
+@njit(cache=True)
+def correct_point(q, aux, params, dt):  # type: ignore[no-untyped-def]
+    """A dry cell holds no momentum."""
+    if q[0] < params[DRY]:
+        q[1] = 0.0
+
+
+@njit(cache=True)
+def admissible_point(q, aux, params):  # type: ignore[no-untyped-def]
+    """Finite, ``h >= 0``, and no momentum in a dry cell."""
+    if not (np.isfinite(q[0]) and np.isfinite(q[1])):
+        return False
+    if q[0] < 0.0:
+        return False
+    return q[0] >= params[DRY] or q[1] == 0.0
+
+
+EARTH_PRESSURE = ("savage-hutter", "isotropic")
+
+
+@dataclass(frozen=True)
+class SavageHutterParameters:
+    """Parameters (angles in degrees). ``chute`` selects the geometry (see :mod:`chute`)."""
+
+    epsilon: float = 1.0
+    phi: float = 30.0
+    delta: float = 30.0
+    earth_pressure: str = "savage-hutter"
+    chute: str = "plane"
+    zeta: float = 40.0
+    transition_start: float = 21.5
+    transition_end: float = 25.5
+    zeta_end: float = 0.0
+    chute_file: str = ""
+    dry_tolerance: float = 1e-10
+
+    def __post_init__(self) -> None:
+        for name in ("epsilon", "phi", "delta", "dry_tolerance"):
+            value = getattr(self, name)
+            if (
+                isinstance(value, bool)
+                or not isinstance(value, int | float)
+                or not math.isfinite(value)
+            ):
+                raise ConfigError(f"parameters.{name}: expected a finite number, got {value!r}")
+        if not self.epsilon > 0:
+            raise ConfigError(f"parameters.epsilon: must be > 0, got {self.epsilon}")
+        if not 0 <= self.phi < 90:
+            raise ConfigError(f"parameters.phi: must be in [0, 90) degrees, got {self.phi}")
+        if not 0 <= self.delta < 90:
+            raise ConfigError(f"parameters.delta: must be in [0, 90) degrees, got {self.delta}")
+        if self.delta > self.phi:
+            raise ConfigError(
+                f"parameters.delta: bed friction angle delta={self.delta} must be <= internal "
+                f"friction angle phi={self.phi} (K_act/pass are not real otherwise)"
+            )
+        if self.earth_pressure not in EARTH_PRESSURE:
+            raise ConfigError(
+                f"parameters.earth_pressure: unknown '{self.earth_pressure}'; allowed: "
+                f"{', '.join(EARTH_PRESSURE)}"
+            )
+        if self.chute not in CHUTE_KINDS:
+            raise ConfigError(
+                f"parameters.chute: unknown '{self.chute}'; allowed: {', '.join(CHUTE_KINDS)}"
+            )
+        if not 0 <= self.dry_tolerance < 1e-3:
+            raise ConfigError(
+                f"parameters.dry_tolerance: must be in [0, 1e-3), got {self.dry_tolerance}"
+            )
+
+
+class SavageHutter(Model):
+    """Savage–Hutter granular avalanche, ``q = (h, m = h u)``, on a curved chute.
+
+    The earth-pressure coefficient is decided per cell, every step, from the sign of the
+    velocity slope ``u' = (m' - u h')/h`` computed from the reconstructed slopes of the conserved
+    variables (:func:`coefficients_point`): active if ``u' >= 0``, passive if ``u' < 0``. With
+    ``earth_pressure = "isotropic"``, ``K = 1`` everywhere.
+    """
+
+    name = "savage-hutter"
+    description = "Savage–Hutter avalanche (h, hu): earth pressure, Coulomb friction, curved chute"
+    variables = ("h", "hu")
+    aux_names = ("sin_zeta", "cos_zeta", "lambda_kappa", "K")
+    reflect_signs = (1.0, -1.0)
+    aux_reflect_signs = (-1.0, 1.0, 1.0, 1.0)
+    has_source = True
+    depth_index = 0
+    momentum_index = 1
+    Parameters = SavageHutterParameters
+    admissible_rule = "finite h >= 0, and hu = 0 where h < dry_tolerance"
+    initial_kinds: ClassVar[dict[str, tuple[tuple[str, ...], dict[str, Any], str]]] = {
+        "parabolic-cap": (
+            ("centre", "radius", "height"),
+            {"thin_layer": 0.0},
+            "h = height (1 - ((x - centre)/radius)^2) inside, plus a thin layer everywhere, at rest",
+        ),
+    }
+    flux_point = staticmethod(flux_point)
+    jacobian_point = staticmethod(jacobian_point)
+    max_speed_point = staticmethod(max_speed_point)
+    source_point = staticmethod(source_point)
+    resistance_point = staticmethod(resistance_point)
+    coefficients_point = staticmethod(coefficients_point)
+    correct_point = staticmethod(correct_point)
+    admissible_point = staticmethod(admissible_point)
+
+    def __init__(self, **params: Any) -> None:
+        super().__init__(**params)
+        p = self.params
+        self.chute: Chute = make_chute(
+            p.chute, p.zeta, p.transition_start, p.transition_end, p.zeta_end, p.chute_file
+        )
+        if p.earth_pressure == "isotropic":
+            self.k_active = self.k_passive = 1.0
+        else:
+            self.k_active, self.k_passive = earth_pressure_coefficients(
+                math.radians(p.phi), math.radians(p.delta)
+            )
+
+    def param_vector(self) -> Array:
+        """``(eps, K_act, K_pass, tan delta, dry_tolerance)``."""
+        p = self.params
+        return np.array(
+            [
+                p.epsilon,
+                self.k_active,
+                self.k_passive,
+                math.tan(math.radians(p.delta)),
+                p.dry_tolerance,
+            ]
+        )
+
+    def capabilities(self) -> dict[str, bool]:
+        """Driving source and friction always; the K switch only if K_act != K_pass."""
+        return {
+            "source": True,
+            "balanced_source": False,
+            "surface": False,
+            "correction": True,
+            "resistance": self.params.delta > 0.0,
+            "dynamic_coefficients": self.k_active != self.k_passive,
+        }
+
+    def dry_depth(self) -> float:
+        """The ``dry_tolerance`` parameter."""
+        return float(self.params.dry_tolerance)
+
+    def aux(self, x: Array, dx: float) -> Array:
+        """``sin zeta``, ``cos zeta``, ``lambda kappa`` at x, and ``K = K_act``."""
+        x = np.asarray(x, dtype=np.float64)
+        angle = self.chute.zeta(x)
+        return np.ascontiguousarray(
+            np.vstack(
+                [
+                    np.sin(angle),
+                    np.cos(angle),
+                    self.chute.curvature(x),
+                    np.full(x.shape, self.k_active),
+                ]
+            )
+        )
+
+    def initial_cell_averages(self, kind: str, options: Mapping[str, Any], grid: Grid) -> Array:
+        """``parabolic-cap``: exact cell averages of the cap plus the thin layer, at rest."""
+        values = {}
+        for key in ("centre", "radius", "height", "thin_layer"):
+            value = options[key]
+            if (
+                isinstance(value, bool)
+                or not isinstance(value, int | float)
+                or not math.isfinite(value)
+            ):
+                raise ConfigError(f"initial.{key}: expected a finite number, got {value!r}")
+            values[key] = float(value)
+        if values["radius"] <= 0 or values["height"] < 0 or values["thin_layer"] < 0:
+            raise ConfigError("initial: need radius > 0, height >= 0 and thin_layer >= 0")
+        cap = cap_profile(values["centre"], values["radius"], values["height"])
+        h = piecewise_cell_averages(grid.edges, *cap)[0] + values["thin_layer"]
+        return np.ascontiguousarray(np.vstack([h, np.zeros_like(h)]))
+
+    def exact_solution(
+        self, initial: InitialCondition, grid: Grid, boundary: Mapping[str, Any]
+    ) -> ExactSolution | None:
+        """The parabolic similarity solution for a cap released at rest on a plane chute."""
+        if initial.kind != "parabolic-cap" or not isinstance(self.chute, PlaneChute):
+            return None
+        p = self.params
+        zeta = self.chute.angle
+        slope = math.sin(zeta) - math.tan(math.radians(p.delta)) * math.cos(zeta)
+        beta = p.epsilon * math.cos(zeta) * self.k_active
+        return SimilaritySolution.create(
+            slope, beta, float(initial.options["height"]), float(initial.options["radius"]),
+            float(initial.options["centre"]),
+        )  # fmt: skip
+
+
+def cap_profile(centre: float, radius: float, height: float) -> tuple[Array, list[Any]]:
+    """Breakpoints and pieces of ``h = height (1 - ((x-c)/r)^2)`` inside ``|x-c| <= r``, else 0."""
+
+    def zero(x: Array) -> Array:
+        return np.zeros((1, x.size))
+
+    def parabola(x: Array) -> Array:
+        return (height * (1.0 - ((x - centre) / radius) ** 2))[None, :]
+
+    return np.array([centre - radius, centre + radius]), [zero, parabola, zero]

@@ -1,0 +1,113 @@
+"""The parabolic similarity solution of the Savage–Hutter equations (Savage & Hutter 1989).
+
+On a plane (``zeta`` constant) with ``u > 0`` everywhere (reference §5):
+
+    s = sin zeta - tan delta cos zeta,   xi = x - x0 - s t^2 / 2,
+    h = (H0 g0 / g) (1 - xi^2 / g^2)  for |xi| <= g,   u = s t + xi g'/g,
+    g'' = 2 beta H0 g0 / g^2,  g(0) = g0,  g'(0) = 0,  beta = eps cos zeta K_act.
+
+With ``G = g / g0`` the ODE integrates to
+``sqrt(G (G-1)) + ln(sqrt G + sqrt(G-1)) = 2 sqrt(beta H0 / g0^2) t`` and
+``g' = 2 sqrt(beta H0) sqrt(1 - 1/G)``. The solution needs the rear margin to move downslope,
+``s t - g'(t) >= 0`` for all t, i.e. ``2 beta H0 / g0 <= s``; other parameters are refused.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.optimize import brentq
+
+from conslaw.errors import ConfigError
+from conslaw.exact import ExactSolution, piecewise_cell_averages
+
+Array = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class SimilaritySolution(ExactSolution):
+    """Parabolic cap of height ``H0`` and half-length ``g0`` centred at ``x0`` at t = 0, at rest."""
+
+    slope: float
+    beta: float
+    height: float
+    half_length: float
+    centre: float
+
+    @classmethod
+    def create(
+        cls, slope: float, beta: float, height: float, half_length: float, centre: float
+    ) -> SimilaritySolution:
+        """Check validity (``2 beta H0 / g0 <= s``) and build the solution."""
+        if not (beta > 0 and height > 0 and half_length > 0):
+            raise ConfigError("similarity solution: needs beta > 0, height > 0 and radius > 0")
+        limit = 2.0 * beta * height / half_length
+        if limit > slope:
+            raise ConfigError(
+                f"similarity solution invalid: the rear margin would move upslope "
+                f"(2 beta H0 / g0 = {limit:.4g} > s = sin zeta - tan delta cos zeta = {slope:.4g})"
+            )
+        return cls(slope, beta, height, half_length, centre)
+
+    def spread(self, t: float) -> tuple[float, float]:
+        """``(g(t), g'(t))``, solving the implicit form for ``G = g / g0`` with brentq."""
+        if t <= 0.0:
+            return self.half_length, 0.0
+        target = 2.0 * math.sqrt(self.beta * self.height / self.half_length**2) * t
+
+        def mismatch(G: float) -> float:
+            return math.sqrt(G * (G - 1.0)) + math.log(math.sqrt(G) + math.sqrt(G - 1.0)) - target
+
+        upper = 2.0
+        while mismatch(upper) < 0.0:
+            upper *= 2.0
+        G = brentq(mismatch, 1.0, upper, xtol=1e-15, rtol=4 * np.finfo(float).eps)
+        rate = 2.0 * math.sqrt(self.beta * self.height) * math.sqrt(1.0 - 1.0 / G)
+        return G * self.half_length, rate
+
+    def margins(self, t: float) -> tuple[float, float]:
+        """Rear and front margin positions."""
+        g, _ = self.spread(t)
+        middle = self.centre + 0.5 * self.slope * t * t
+        return middle - g, middle + g
+
+    def _pieces(self, t: float) -> tuple[Array, list]:  # type: ignore[type-arg]
+        g, rate = self.spread(t)
+        middle = self.centre + 0.5 * self.slope * t * t
+        scale = self.height * self.half_length / g
+
+        def outside(x: Array) -> Array:
+            return np.zeros((2, x.size))
+
+        def inside(x: Array) -> Array:
+            xi = x - middle
+            h = scale * (1.0 - (xi / g) ** 2)
+            return np.vstack([h, h * (self.slope * t + xi * rate / g)])
+
+        return np.array([middle - g, middle + g]), [outside, inside, outside]
+
+    def cell_averages(self, edges: Array, t: float) -> Array:
+        """Exact cell averages of (h, hu) (the parabola and cubic integrated exactly)."""
+        points, pieces = self._pieces(t)
+        return piecewise_cell_averages(edges, points, pieces)
+
+    def point_values(self, x: Array, t: float) -> Array:
+        """Exact (h, hu) at x (zero outside the margins)."""
+        points, pieces = self._pieces(t)
+        x = np.asarray(x, dtype=np.float64)
+        inside = (x >= points[0]) & (x <= points[1])
+        result = np.zeros((2, x.size))
+        result[:, inside] = pieces[1](x[inside])
+        return result
+
+    def velocity(self, x: Array, t: float) -> Array:
+        """Exact u inside the body (the linear profile ``s t + xi g'/g``; NaN outside)."""
+        points, _ = self._pieces(t)
+        g, rate = self.spread(t)
+        x = np.asarray(x, dtype=np.float64)
+        middle = self.centre + 0.5 * self.slope * t * t
+        u = self.slope * t + (x - middle) * rate / g
+        return np.where((x >= points[0]) & (x <= points[1]), u, np.nan)
