@@ -113,7 +113,7 @@ def _command_run(args: argparse.Namespace) -> int:
     print(
         f"{scene.name}: {scene.model}, {scene.scheme}, {scene.reconstructor}, "
         f"N={scene.n_cells}, t={result.final.t:g}, {result.steps} steps, "
-        f"solve {result.solve_seconds:.3f} s"
+        f"solve {result.solve_seconds:.3f} s (compile or cache load {result.compile_seconds:.2f} s)"
     )
     for state, error in zip(result.states, result.errors, strict=True):
         if error is not None:
@@ -121,11 +121,10 @@ def _command_run(args: argparse.Namespace) -> int:
                 f"  t={state.t:g}: error in {result.model.variables[0]} against exact cell "
                 f"averages  L1={error.l1:.4e}  L2={error.l2:.4e}  Linf={error.linf:.4e}"
             )
-    drift = ", ".join(
-        f"{name} {value:+.2e}"
-        for name, value in zip(result.model.variables, result.mass_drift, strict=True)
-    )
-    print(f"  relative change of totals: {drift}")
+    rows = result.model.conserved_rows()
+    if rows:
+        drift = ", ".join(f"{result.model.variables[v]} {result.mass_drift[v]:+.2e}" for v in rows)
+        print(f"  relative change of conserved totals (boundary fluxes included): {drift}")
     for path in files:
         print(f"  wrote {path}")
     return 0
@@ -210,6 +209,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         sys.stderr.write("conslaw: interrupted\n")
         return 130
+    except BrokenPipeError:
+        # The reader went away (`conslaw list | head`): stop quietly, as other tools do.
+        import os
+
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
 
 
 if __name__ == "__main__":

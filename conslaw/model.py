@@ -169,6 +169,14 @@ class Model(ABC):
             "dynamic_coefficients": self.coefficients_point is not None,
         }
 
+    def conserved_rows(self) -> tuple[int, ...]:
+        """Variables whose total only changes through the boundaries (no source, no
+        resistance): the ones a mass-drift report may check."""
+        uses = self.capabilities()
+        if not (uses["source"] or uses["balanced_source"] or uses["resistance"]):
+            return tuple(range(self.n_vars))
+        return () if self.depth_index is None else (self.depth_index,)
+
     def dry_depth(self) -> float:
         """Depth below which a cell counts as dry (velocity 0); 0 for models without depth."""
         return 0.0

@@ -210,7 +210,7 @@ class SavageHutter(Model):
         "parabolic-cap": (
             ("centre", "radius", "height"),
             {"thin_layer": 0.0},
-            "h = height (1 - ((x - centre)/radius)^2) inside, plus a thin layer everywhere, at rest",
+            "h = height (1 - ((x - centre)/radius)^2) inside, plus thin_layer everywhere, at rest",
         ),
     }
     flux_point = staticmethod(flux_point)
