@@ -31,8 +31,9 @@ The default output is one markdown table per data family (rows: reconstructors, 
 cells ``step / pair / net (max)``, a dash where the TV never grew); ``--long`` prints one row per
 setting instead.
 
-Nessyahu & Tadmor (1990) prove the minmod scheme TVD below a CFL bound under 1/2; a sufficient
-bound for this implementation and Burgers is ``c (1 + c)^2 <= 3/8``, i.e. ``c <= 0.2428`` (see
+Nessyahu & Tadmor (1990) prove the scheme with limited slopes TVD under a CFL restriction below
+1/2; a sufficient bound for this implementation with minmod slopes and Burgers is
+``c (1 + c)^2 <= 3/8``, i.e. ``c <= 0.2428`` (derived in
 ``tests/test_properties.py::test_minmod_burgers_advance_is_tvd``).
 """
 
