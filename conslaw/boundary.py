@@ -88,6 +88,41 @@ def inflow_right(w, n, ng, staggered, data):  # type: ignore[no-untyped-def]
             w[v, ng + n - 1 + g] = data[v]
 
 
+# Kind codes of the built-in conditions: they share one pair of compiled fill functions, so a
+# kernel compiled for one model and reconstructor serves every combination of built-in boundaries.
+PERIODIC, OUTFLOW, WALL, INFLOW = 0, 1, 2, 3
+
+
+@njit(cache=True)
+def builtin_left(w, n, ng, staggered, data):  # type: ignore[no-untyped-def]
+    """Left ghosts of a built-in condition: ``data[0]`` is its kind code, ``data[1:]`` its data."""
+    kind = int(data[0])
+    payload = data[1:]
+    if kind == PERIODIC:
+        periodic_left(w, n, ng, staggered, payload)
+    elif kind == OUTFLOW:
+        outflow_left(w, n, ng, staggered, payload)
+    elif kind == WALL:
+        wall_left(w, n, ng, staggered, payload)
+    else:
+        inflow_left(w, n, ng, staggered, payload)
+
+
+@njit(cache=True)
+def builtin_right(w, n, ng, staggered, data):  # type: ignore[no-untyped-def]
+    """Right ghosts of a built-in condition (see :func:`builtin_left`)."""
+    kind = int(data[0])
+    payload = data[1:]
+    if kind == PERIODIC:
+        periodic_right(w, n, ng, staggered, payload)
+    elif kind == OUTFLOW:
+        outflow_right(w, n, ng, staggered, payload)
+    elif kind == WALL:
+        wall_right(w, n, ng, staggered, payload)
+    else:
+        inflow_right(w, n, ng, staggered, payload)
+
+
 @dataclass(frozen=True)
 class BoundaryCondition:
     """One kind of boundary condition.
@@ -115,15 +150,22 @@ class BoundaryCondition:
     periodic: bool = False
     options: tuple[str, ...] = ()
     ghost_coefficients: str = "copy"
+    #: Kind code for the shared built-in fill functions (None for a plugin's own functions).
+    code: int | None = None
     data_builder: Callable[[Model, Mapping[str, Any]], NDArray[np.float64]] | None = field(
         default=None, compare=False
     )
 
     def data(self, model: Model, options: Mapping[str, Any]) -> NDArray[np.float64]:
-        """The float array handed to the fill functions."""
-        if self.data_builder is None:
-            return np.zeros(1, dtype=np.float64)
-        return self.data_builder(model, options)
+        """The float array handed to the fill functions (led by the kind code if built in)."""
+        payload = (
+            np.zeros(1, dtype=np.float64)
+            if self.data_builder is None
+            else self.data_builder(model, options)
+        )
+        if self.code is None:
+            return payload
+        return np.concatenate([[float(self.code)], payload])
 
 
 def _wall_data(model: Model, options: Mapping[str, Any]) -> NDArray[np.float64]:
@@ -146,31 +188,21 @@ def _inflow_data(model: Model, options: Mapping[str, Any]) -> NDArray[np.float64
 
 
 def builtin_boundary_conditions() -> list[BoundaryCondition]:
-    """The boundary conditions that ship with conslaw."""
+    """The boundary conditions that ship with conslaw (all served by one compiled kernel)."""
     return [
         BoundaryCondition(
-            "periodic",
-            "periodic (both sides)",
-            periodic_left,
-            periodic_right,
-            True,
-            ghost_coefficients="wrap",
-        ),
-        BoundaryCondition("outflow", "zero-gradient outflow", outflow_left, outflow_right),
-        BoundaryCondition(
-            "wall",
-            "reflective wall (momentum mirrored)",
-            wall_left,
-            wall_right,
-            data_builder=_wall_data,
-            ghost_coefficients="mirror",
+            "periodic", "periodic (both sides)", builtin_left, builtin_right, True,
+            ghost_coefficients="wrap", code=PERIODIC,
         ),
         BoundaryCondition(
-            "inflow",
-            "fixed inflow state (option: state = [...])",
-            inflow_left,
-            inflow_right,
-            options=("state",),
-            data_builder=_inflow_data,
+            "outflow", "zero-gradient outflow", builtin_left, builtin_right, code=OUTFLOW
         ),
-    ]
+        BoundaryCondition(
+            "wall", "reflective wall (momentum mirrored)", builtin_left, builtin_right,
+            data_builder=_wall_data, ghost_coefficients="mirror", code=WALL,
+        ),
+        BoundaryCondition(
+            "inflow", "fixed inflow state (option: state = [...])", builtin_left, builtin_right,
+            options=("state",), data_builder=_inflow_data, code=INFLOW,
+        ),
+    ]  # fmt: skip
