@@ -43,7 +43,7 @@ DEFAULTS: dict[str, Any] = {
 KEY_HELP: dict[str, str] = {
     "description": "one line shown by `conslaw list`",
     "model": "registered model name (`conslaw list`)",
-    "parameters": "table of the model's parameters (e.g. g for shallow water)",
+    "parameters": "table of the model's parameters; *_file paths are relative to the scene file",
     "scheme": "registered scheme name",
     "reconstructor": "slope reconstruction: none, minmod, superbee, vanleer, mc, weno3, weno5",
     "cfl": "target Courant number, 0 < cfl < 0.5 (paper eq. 17)",
@@ -220,8 +220,25 @@ def _check_table(value: Any, key: str, allowed: tuple[str, ...]) -> Mapping[str,
     return value
 
 
-def validate(name: str, raw: Mapping[str, Any]) -> Scene:
-    """Validate a raw scene mapping (after overrides) into a :class:`Scene`."""
+def _resolve_files(parameters: Mapping[str, Any], folder: Path | None) -> dict[str, Any]:
+    """Parameters whose name ends in ``_file`` are paths; a relative one is taken relative to
+    the scene file's folder (if that file exists there), so a scene and its tables travel
+    together."""
+    resolved = dict(parameters)
+    for key, value in parameters.items():
+        if not key.endswith("_file") or not isinstance(value, str) or not value:
+            continue
+        path = Path(value).expanduser()
+        if not path.is_absolute() and folder is not None and (folder / path).exists():
+            resolved[key] = str((folder / path).resolve())
+    return resolved
+
+
+def validate(name: str, raw: Mapping[str, Any], folder: Path | None = None) -> Scene:
+    """Validate a raw scene mapping (after overrides) into a :class:`Scene`.
+
+    ``folder`` is where the scene file lives (relative ``*_file`` parameters are resolved there).
+    """
     for key in raw:
         if key not in DEFAULTS:
             raise ConfigError(unknown_name_message("scene key", key, DEFAULTS))
@@ -239,6 +256,7 @@ def validate(name: str, raw: Mapping[str, Any]) -> Scene:
     parameters = table["parameters"]
     if not isinstance(parameters, Mapping):
         raise ConfigError(f"scene key 'parameters': expected a table, got {parameters!r}")
+    parameters = _resolve_files(parameters, folder)
 
     cfl = _number(table, "cfl")
     if not 0.0 < cfl < 0.5:
@@ -307,4 +325,4 @@ def load_scene(name_or_path: str | Path, overrides: Mapping[str, Any] | None = N
     """Read, override and validate a scene (a built-in name or a ``.toml`` path)."""
     name, path = scene_path(name_or_path)
     raw = read_scene_file(path)
-    return validate(name, apply_overrides(raw, overrides or {}))
+    return validate(name, apply_overrides(raw, overrides or {}), path.parent)

@@ -248,3 +248,16 @@ def test_chute_table_that_is_not_increasing(tmp_path: Path) -> None:
         "--set", f'parameters.chute_file="{table}"',
     )  # fmt: skip
     assert_one_line_error(process, "strictly increasing")
+
+
+def test_terrain_example_scene_runs_from_anywhere(tmp_path: Path) -> None:
+    """docs/examples: the CSV named in the scene is found next to the scene file."""
+    scene = Path(__file__).resolve().parents[1] / "docs" / "examples" / "terrain-avalanche.toml"
+    process = cli(
+        "run", str(scene), "--set", "n_cells=100", "--set", "t_end=5.0", "--set", "output_times=[]",
+        "--no-plot", "--out", str(tmp_path / "out"), cwd=tmp_path,
+    )  # fmt: skip
+    assert process.returncode == 0, process.stderr
+    with np.load(tmp_path / "out" / "states.npz") as data:
+        assert np.all(data["q"][-1, 0] >= 0.0)
+        assert data["q"][-1, 1].max() > 0.0  # it slides
