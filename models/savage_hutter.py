@@ -29,12 +29,13 @@ from conslaw.grid import Grid
 from conslaw.initial import InitialCondition
 from conslaw.model import Model
 from conslaw_models.chute import CHUTE_KINDS, Chute, PlaneChute, make_chute
+from conslaw_models.depth_averaged import DRY, admissible_point, correct_point, velocity
 from conslaw_models.savage_hutter_exact import SimilaritySolution
 
 Array = NDArray[np.float64]
 
-# Packed parameters (see SavageHutter.param_vector).
-EPSILON, K_ACTIVE, K_PASSIVE, TAN_DELTA, DRY = 0, 1, 2, 3, 4
+# Packed parameters (see SavageHutter.param_vector); DRY = 1 is shared with shallow water.
+EPSILON, K_ACTIVE, K_PASSIVE, TAN_DELTA = 0, 2, 3, 4
 # Rows of the coefficients: sin zeta, cos zeta, lambda kappa, and the earth-pressure coefficient K
 # (set per cell by coefficients_point; K_active in the static coefficients).
 SIN, COS, CURVATURE, K = 0, 1, 2, 3
@@ -49,12 +50,6 @@ def earth_pressure_coefficients(phi: float, delta: float) -> tuple[float, float]
     secant2 = 1.0 / math.cos(phi) ** 2
     root = math.sqrt(max(0.0, 1.0 - math.cos(phi) ** 2 / math.cos(delta) ** 2))
     return 2.0 * secant2 * (1.0 - root) - 1.0, 2.0 * secant2 * (1.0 + root) - 1.0
-
-
-@njit(cache=True)
-def velocity(h, m, dry_tolerance):  # type: ignore[no-untyped-def]
-    """``u = m / h``, and 0 in a dry cell."""
-    return m / h if h >= dry_tolerance and h > 0.0 else 0.0
 
 
 @njit(cache=True)
@@ -113,23 +108,6 @@ def coefficients_point(q, slope, aux, params):  # type: ignore[no-untyped-def]
         if slope[1] - u * slope[0] < 0.0:
             k = params[K_PASSIVE]
     aux[K] = k
-
-
-@njit(cache=True)
-def correct_point(q, aux, params, dt):  # type: ignore[no-untyped-def]
-    """A dry cell holds no momentum."""
-    if q[0] < params[DRY]:
-        q[1] = 0.0
-
-
-@njit(cache=True)
-def admissible_point(q, aux, params):  # type: ignore[no-untyped-def]
-    """Finite, ``h >= 0``, and no momentum in a dry cell."""
-    if not (np.isfinite(q[0]) and np.isfinite(q[1])):
-        return False
-    if q[0] < 0.0:
-        return False
-    return q[0] >= params[DRY] or q[1] == 0.0
 
 
 EARTH_PRESSURE = ("savage-hutter", "isotropic")
@@ -236,17 +214,15 @@ class SavageHutter(Model):
             )
 
     def param_vector(self) -> Array:
-        """``(eps, K_act, K_pass, tan delta, dry_tolerance)``."""
+        """``(eps, dry_tolerance, K_act, K_pass, tan delta)`` (indices EPSILON, DRY, ...)."""
         p = self.params
-        return np.array(
-            [
-                p.epsilon,
-                self.k_active,
-                self.k_passive,
-                math.tan(math.radians(p.delta)),
-                p.dry_tolerance,
-            ]
-        )
+        values = [0.0] * 5
+        values[EPSILON] = p.epsilon
+        values[DRY] = p.dry_tolerance
+        values[K_ACTIVE] = self.k_active
+        values[K_PASSIVE] = self.k_passive
+        values[TAN_DELTA] = math.tan(math.radians(p.delta))
+        return np.array(values)
 
     def capabilities(self) -> dict[str, bool]:
         """Driving source and friction always; the K switch only if K_act != K_pass."""

@@ -32,6 +32,7 @@ from conslaw.exact import ExactSolution
 from conslaw.grid import Grid
 from conslaw.initial import InitialCondition
 from conslaw.model import Model
+from conslaw_models.depth_averaged import DRY, admissible_point, correct_point, velocity
 from conslaw_models.shallow_water_exact import DamBreak
 
 Array = NDArray[np.float64]
@@ -39,15 +40,9 @@ Array = NDArray[np.float64]
 _NODES, _WEIGHTS = np.polynomial.legendre.leggauss(8)
 
 # Positions of the parameters in the packed vector (field order of ShallowWaterParameters).
-G, DRY = 0, 1
+G = 0
 # Rows of the coefficient array: cell average of the bed, and its slope.
 BED, BED_SLOPE = 0, 1
-
-
-@njit(cache=True)
-def velocity(h, m, dry_tolerance):  # type: ignore[no-untyped-def]
-    """``u = m / h``, and 0 in a dry cell (``h < dry_tolerance``)."""
-    return m / h if h >= dry_tolerance and h > 0.0 else 0.0
 
 
 @njit(cache=True)
@@ -88,23 +83,6 @@ def balanced_source_point(q_left, q_right, aux_left, aux_right, dx, params, out)
     """Source averaged over the staggered cell: ``(0, -g (h_L + h_R)/2 (b_R - b_L)/dx)``."""
     out[0] = 0.0
     out[1] = -params[G] * 0.5 * (q_left[0] + q_right[0]) * (aux_right[BED] - aux_left[BED]) / dx
-
-
-@njit(cache=True)
-def correct_point(q, aux, params, dt):  # type: ignore[no-untyped-def]
-    """A dry cell holds no momentum."""
-    if q[0] < params[DRY]:
-        q[1] = 0.0
-
-
-@njit(cache=True)
-def admissible_point(q, aux, params):  # type: ignore[no-untyped-def]
-    """Finite, ``h >= 0``, and no momentum in a dry cell."""
-    if not (np.isfinite(q[0]) and np.isfinite(q[1])):
-        return False
-    if q[0] < 0.0:
-        return False
-    return q[0] >= params[DRY] or q[1] == 0.0
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,37 @@
+"""Pointwise pieces shared by the depth-averaged models (shallow water, Savage–Hutter).
+
+Both store ``q = (h, m = h u)`` and pack their dry tolerance at :data:`DRY` of the parameter
+vector. A cell with ``h < dry_tolerance`` is dry: its velocity is 0 in every formula (no division
+by zero anywhere) and it holds no momentum.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+#: Index of the dry tolerance in the packed parameter vector of every depth-averaged model.
+DRY = 1
+
+
+@njit(cache=True)
+def velocity(h, m, dry_tolerance):  # type: ignore[no-untyped-def]
+    """``u = m / h``, and 0 in a dry cell (``h < dry_tolerance``)."""
+    return m / h if h >= dry_tolerance and h > 0.0 else 0.0
+
+
+@njit(cache=True)
+def correct_point(q, aux, params, dt):  # type: ignore[no-untyped-def]
+    """A dry cell holds no momentum."""
+    if q[0] < params[DRY]:
+        q[1] = 0.0
+
+
+@njit(cache=True)
+def admissible_point(q, aux, params):  # type: ignore[no-untyped-def]
+    """Finite, ``h >= 0``, and no momentum in a dry cell."""
+    if not (np.isfinite(q[0]) and np.isfinite(q[1])):
+        return False
+    if q[0] < 0.0:
+        return False
+    return q[0] >= params[DRY] or q[1] == 0.0
