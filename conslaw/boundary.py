@@ -179,6 +179,11 @@ def _inflow_data(model: Model, options: Mapping[str, Any]) -> NDArray[np.float64
             f"boundary 'inflow' needs state = a list of {model.n_vars} numbers "
             f"({', '.join(model.variables)}), got {state!r}"
         )
+    if any(isinstance(v, bool) or not isinstance(v, int | float) for v in state):
+        raise ConfigError(
+            f"boundary 'inflow' needs state = a list of {model.n_vars} numbers "
+            f"({', '.join(model.variables)}), got {state!r}"
+        )
     values = np.array(state, dtype=np.float64)
     if not np.all(np.isfinite(values)):
         raise ConfigError(f"boundary 'inflow' state must be finite, got {state!r}")

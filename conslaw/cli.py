@@ -94,7 +94,7 @@ class _ProgressBar:
 
 def _command_run(args: argparse.Namespace) -> int:
     from conslaw.config import load_scene
-    from conslaw.io import prepare_output_dir, write_run
+    from conslaw.io import check_output_dir, write_run
     from conslaw.simulation import simulate
 
     scene = load_scene(args.scene, _overrides(args.set))
@@ -103,7 +103,7 @@ def _command_run(args: argparse.Namespace) -> int:
 
         scene = replace(scene, plot=False)
     out = Path(args.out) if args.out else Path("conslaw-output") / scene.name
-    prepare_output_dir(out)
+    check_output_dir(out)
     bar = _ProgressBar(scene.t_end)
     try:
         result = simulate(scene, progress=bar)
@@ -121,6 +121,8 @@ def _command_run(args: argparse.Namespace) -> int:
                 f"  t={state.t:g}: error in {result.model.variables[0]} against exact cell "
                 f"averages  L1={error.l1:.4e}  L2={error.l2:.4e}  Linf={error.linf:.4e}"
             )
+    if result.exact_solution is None and scene.exact:
+        print(f"  no comparison with an exact solution: {result.exact_note}")
     rows = result.model.conserved_rows()
     if rows:
         drift = ", ".join(f"{result.model.variables[v]} {result.mass_drift[v]:+.2e}" for v in rows)

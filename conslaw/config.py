@@ -16,6 +16,7 @@ from typing import Any
 
 from conslaw import registry
 from conslaw.errors import ConfigError, unknown_name_message
+from conslaw.grid import MAX_CELLS
 from conslaw.initial import InitialCondition
 
 REQUIRED = object()
@@ -43,7 +44,7 @@ DEFAULTS: dict[str, Any] = {
 KEY_HELP: dict[str, str] = {
     "description": "one line shown by `conslaw list`",
     "model": "registered model name (`conslaw list`)",
-    "parameters": "table of the model's parameters; *_file paths are relative to the scene file",
+    "parameters": "model parameters; a relative *_file path is looked up next to the scene first",
     "scheme": "registered scheme name",
     "reconstructor": "slope reconstruction: none, minmod, superbee, vanleer, mc, weno3, weno5",
     "cfl": "target Courant number, 0 < cfl < 0.5 (paper eq. 17)",
@@ -221,9 +222,9 @@ def _check_table(value: Any, key: str, allowed: tuple[str, ...]) -> Mapping[str,
 
 
 def _resolve_files(parameters: Mapping[str, Any], folder: Path | None) -> dict[str, Any]:
-    """Parameters whose name ends in ``_file`` are paths; a relative one is taken relative to
-    the scene file's folder (if that file exists there), so a scene and its tables travel
-    together."""
+    """Parameters whose name ends in ``_file`` are paths. A relative one is looked up first next
+    to the scene file (so a scene and its tables travel together), and otherwise taken relative
+    to the current folder (as for a ``--set`` on the command line)."""
     resolved = dict(parameters)
     for key, value in parameters.items():
         if not key.endswith("_file") or not isinstance(value, str) or not value:
@@ -262,11 +263,16 @@ def validate(name: str, raw: Mapping[str, Any], folder: Path | None = None) -> S
     if not 0.0 < cfl < 0.5:
         raise ConfigError(f"scene key 'cfl': must be in (0, 0.5) (paper eq. 17), got {cfl}")
     n_cells = table["n_cells"]
-    if isinstance(n_cells, bool) or not isinstance(n_cells, int) or n_cells < 4:
-        raise ConfigError(f"scene key 'n_cells': expected an integer >= 4, got {n_cells!r}")
+    if isinstance(n_cells, bool) or not isinstance(n_cells, int) or not 4 <= n_cells <= MAX_CELLS:
+        raise ConfigError(
+            f"scene key 'n_cells': expected an integer >= 4 and <= {MAX_CELLS}, got {n_cells!r}"
+        )
     x_min, x_max = _number(table, "x_min"), _number(table, "x_max")
-    if not x_max > x_min:
-        raise ConfigError(f"scene keys 'x_min', 'x_max': need x_min < x_max, got {x_min}, {x_max}")
+    if not (x_max > x_min and math.isfinite(x_max - x_min)):
+        raise ConfigError(
+            f"scene keys 'x_min', 'x_max': need x_min < x_max a finite length apart, "
+            f"got {x_min}, {x_max}"
+        )
     t_end = _number(table, "t_end")
     if not t_end > 0.0:
         raise ConfigError(f"scene key 't_end': must be > 0, got {t_end}")
@@ -289,6 +295,7 @@ def validate(name: str, raw: Mapping[str, Any], folder: Path | None = None) -> S
             f"boundary: 'periodic' must be used on both sides, got left='{left.kind}', "
             f"right='{right.kind}'"
         )
+    registry.models.get(model)(**parameters)  # the model validates its own parameters
     initial = InitialCondition.from_table(table["initial"], registry.models.get(model))
     output = _check_table(table["output"], "output", OUTPUT_KEYS)
     formats = output.get("formats", ["npz"])

@@ -135,8 +135,8 @@ def convergence_study(
         study.warmup_seconds[key] = time.perf_counter() - started
         if first.errors[-1] is None:
             raise ConfigError(
-                f"scene '{base.name}' has no exact solution to measure against; "
-                "convergence needs one"
+                f"scene '{base.name}' has no exact solution to measure against "
+                f"({first.exact_note}); convergence needs one"
             )
         errors: list[float] = []
         for n in cells:

@@ -11,6 +11,11 @@ from numpy.typing import NDArray
 Array = NDArray[np.float64]
 
 
+class Unavailable(Exception):  # noqa: N818 (a reason, not a failure)
+    """Raised by ``Model.exact_solution`` when the model has exact solutions but none applies to
+    this set-up; the message says why (waves reach a boundary, wave interaction, ...)."""
+
+
 class ExactSolution(ABC):
     """An exact solution of a model for one initial condition."""
 

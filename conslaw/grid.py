@@ -10,6 +10,8 @@ from numpy.typing import NDArray
 from conslaw.errors import ConfigError
 
 MIN_CELLS = 4
+#: Largest grid accepted (about 2 GB of work arrays for a two-variable model).
+MAX_CELLS = 50_000_000
 
 
 @dataclass(frozen=True)
@@ -28,12 +30,19 @@ class Grid:
     def __post_init__(self) -> None:
         if isinstance(self.n_cells, bool) or not isinstance(self.n_cells, int | np.integer):
             raise ConfigError(f"n_cells must be an integer >= {MIN_CELLS}, got {self.n_cells!r}")
+        if self.n_cells > MAX_CELLS:
+            raise ConfigError(f"n_cells must be <= {MAX_CELLS}, got {self.n_cells}")
         if self.n_cells < MIN_CELLS:
             raise ConfigError(f"n_cells must be an integer >= {MIN_CELLS}, got {self.n_cells}")
         if not (np.isfinite(self.x_min) and np.isfinite(self.x_max)):
             raise ConfigError("x_min and x_max must be finite numbers")
         if not self.x_max > self.x_min:
             raise ConfigError(f"x_max must be > x_min, got x_min={self.x_min}, x_max={self.x_max}")
+        length = self.x_max - self.x_min
+        if not (np.isfinite(length) and length / self.n_cells > 0.0):
+            raise ConfigError(
+                f"x_max - x_min must be a finite length, got {self.x_min}..{self.x_max}"
+            )
 
     @property
     def length(self) -> float:

@@ -36,6 +36,21 @@ def atomic_write_bytes(path: Path, data: bytes) -> Path:
     return path
 
 
+def check_output_dir(folder: Path) -> Path:
+    """Check, without creating anything, that ``folder`` exists as a writable folder or can be
+    created (its nearest existing ancestor is a writable folder)."""
+    folder = Path(folder)
+    probe = folder
+    while not probe.exists():
+        if probe.parent == probe:
+            break
+        probe = probe.parent
+    if not probe.is_dir() or not os.access(probe, os.W_OK | os.X_OK):
+        reason = "not a folder" if probe.exists() and not probe.is_dir() else "permission denied"
+        raise ConfigError(f"output directory '{folder}' is not writable: {reason} ('{probe}')")
+    return folder
+
+
 def prepare_output_dir(folder: Path) -> Path:
     """Create ``folder`` if needed and check that it is writable, before any work is done."""
     folder = Path(folder)

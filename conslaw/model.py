@@ -272,7 +272,12 @@ class Model(ABC):
 
     # ------------------------------------------------------------------ exact solutions
     def exact_solution(
-        self, initial: InitialCondition, grid: Grid, boundary: Mapping[str, Any]
+        self, initial: InitialCondition, grid: Grid, context: Mapping[str, Any]
     ) -> ExactSolution | None:
-        """The exact solution for this initial condition, or None if the model has none."""
+        """The exact solution for this set-up, or None if the model has none.
+
+        ``context`` holds ``left`` and ``right`` (boundary names) and ``t_end`` (the last output
+        time). Raise :class:`conslaw.exact.Unavailable` with the reason when the model has exact
+        solutions but none applies here (waves reach a boundary before ``t_end``, ...).
+        """
         return None

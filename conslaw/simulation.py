@@ -15,7 +15,7 @@ from conslaw import registry
 from conslaw.analysis import ErrorNorms, error_norms, total_mass
 from conslaw.config import Scene, load_scene
 from conslaw.errors import ConfigError
-from conslaw.exact import ExactSolution
+from conslaw.exact import ExactSolution, Unavailable
 from conslaw.grid import Grid
 from conslaw.model import Model
 from conslaw.schemes.base import BoundarySpec, ProgressCallback, Scheme
@@ -57,6 +57,7 @@ class RunResult:
     solve_seconds: float
     mass_drift: Array
     compile_seconds: float = 0.0
+    exact_note: str | None = None
     files: list[Path] = field(default_factory=list)
 
     @property
@@ -72,6 +73,13 @@ class RunResult:
 
 def build(scene: Scene) -> tuple[Model, Grid, Scheme, State, ExactSolution | None]:
     """Instantiate the model, grid, scheme, initial state and exact solution of a scene."""
+    model, grid, scheme, initial, exact, _ = _build(scene)
+    return model, grid, scheme, initial, exact
+
+
+def _build(
+    scene: Scene,
+) -> tuple[Model, Grid, Scheme, State, ExactSolution | None, str | None]:
     model_class = registry.models.get(scene.model)
     model = model_class(**scene.parameters)
     grid = Grid(scene.x_min, scene.x_max, scene.n_cells)
@@ -85,17 +93,40 @@ def build(scene: Scene) -> tuple[Model, Grid, Scheme, State, ExactSolution | Non
     if not np.all(np.isfinite(q0)):
         raise ConfigError("initial: the initial data are not finite (NaN or inf)")
     initial = State(0.0, grid.centres(), q0, 0.0)
-    exact = None
-    if scene.exact:
-        exact = model.exact_solution(
-            scene.initial, grid, {"left": scene.left.kind, "right": scene.right.kind}
+    exact, note = exact_solution_for(scene, model, grid)
+    return model, grid, scheme, initial, exact, note
+
+
+def exact_solution_for(
+    scene: Scene, model: Model, grid: Grid
+) -> tuple[ExactSolution | None, str | None]:
+    """The exact solution the scene is compared with, or None and the reason why there is none.
+
+    Checked before the run (up to the last output time), so that a comparison that cannot be
+    made never costs a run.
+    """
+    if not scene.exact:
+        return None, "exact = false in the scene"
+    context = {"left": scene.left.kind, "right": scene.right.kind, "t_end": scene.t_end}
+    try:
+        exact = model.exact_solution(scene.initial, grid, context)
+        if exact is not None:
+            exact.cell_averages(grid.edges, scene.t_end)
+    except (Unavailable, ConfigError) as why:
+        return None, str(why)
+    except (ValueError, ArithmeticError) as why:  # e.g. a root finder meeting an overflow
+        return None, f"the exact solution could not be evaluated ({why})"
+    if exact is None:
+        return None, (
+            f"model '{model.name}' has no exact solution for initial condition "
+            f"'{scene.initial.kind}'"
         )
-    return model, grid, scheme, initial, exact
+    return exact, None
 
 
 def simulate(scene: Scene, progress: ProgressCallback | None = None) -> RunResult:
     """Run a validated scene to every output time."""
-    model, grid, scheme, initial, exact_solution = build(scene)
+    model, grid, scheme, initial, exact_solution, exact_note = _build(scene)
     scheme.check_admissible(initial, step=0)
     # Compile the kernels (or load them from the cache) before the clock starts.
     started = time.perf_counter()
@@ -144,6 +175,7 @@ def simulate(scene: Scene, progress: ProgressCallback | None = None) -> RunResul
         solve_seconds,
         drift,
         compile_seconds,
+        exact_note,
     )
 
 
@@ -177,9 +209,9 @@ def run(
     else:
         resolved = load_scene(scene, _flatten(overrides))
     if out is not None:
-        from conslaw.io import prepare_output_dir
+        from conslaw.io import check_output_dir
 
-        prepare_output_dir(Path(out))
+        check_output_dir(Path(out))
     result = simulate(resolved, progress)
     if out is not None:
         from conslaw.io import write_run

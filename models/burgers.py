@@ -7,7 +7,7 @@ from typing import Any
 
 from numba import njit
 
-from conslaw.exact import ExactSolution
+from conslaw.exact import ExactSolution, Unavailable
 from conslaw.grid import Grid
 from conslaw.initial import InitialCondition
 from conslaw.model import Model
@@ -50,13 +50,27 @@ class Burgers(Model):
     max_speed_point = staticmethod(max_speed_point)
 
     def exact_solution(
-        self, initial: InitialCondition, grid: Grid, boundary: Mapping[str, Any]
+        self, initial: InitialCondition, grid: Grid, context: Mapping[str, Any]
     ) -> ExactSolution | None:
-        """Exact solution for ``piecewise-constant`` or ``sine`` data, else None."""
+        """Separated Riemann problems (open boundaries, no wave reaching them or each other by
+        ``t_end``), or the sine wave before it breaks (periodic); else None or Unavailable."""
+        t_end = float(context["t_end"])
         if initial.kind == "piecewise-constant":
-            return BurgersRiemannFans.from_initial(initial, grid)
+            if (context["left"], context["right"]) != ("outflow", "outflow"):
+                raise Unavailable("the exact Riemann solution assumes outflow boundaries")
+            fans = BurgersRiemannFans.from_initial(initial, grid)
+            if fans.valid_until() < t_end:
+                raise Unavailable(f"the Riemann waves interact at t={fans.valid_until():g}")
+            lowest = fans._wave_extent(0, t_end)[0]
+            highest = fans._wave_extent(len(fans.breakpoints) - 1, t_end)[1]
+            if lowest < grid.x_min or highest > grid.x_max:
+                raise Unavailable(f"a wave reaches the boundary before t={t_end:g}")
+            return fans
         if initial.kind == "sine":
-            if boundary.get("left") != "periodic":
-                return None
-            return BurgersSmoothSine.from_initial(initial, grid)
+            if context["left"] != "periodic":
+                raise Unavailable("the exact sine solution needs periodic boundaries")
+            sine = BurgersSmoothSine.from_initial(initial, grid)
+            if sine.breaking_time() <= t_end:
+                raise Unavailable(f"the sine wave breaks at t={sine.breaking_time():g}")
+            return sine
         return None

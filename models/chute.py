@@ -108,6 +108,8 @@ class TableChute(Chute):
     """A chute from a CSV table (``x,zeta`` in degrees, or a profile ``x,z``)."""
 
     def __init__(self, path: str | Path) -> None:
+        if not isinstance(path, str | Path) or not str(path):
+            raise ConfigError(f"parameters.chute_file: expected a file name, got {path!r}")
         path = Path(path)
         try:
             data = np.genfromtxt(path, delimiter=",", names=True, dtype=float)
@@ -122,9 +124,9 @@ class TableChute(Chute):
         data = np.atleast_1d(data)
         x = np.asarray(data["x"], dtype=np.float64)
         values = np.asarray(data[names[1]], dtype=np.float64)
-        if x.size < 4:
+        if x.size < 5:
             raise ConfigError(
-                f"parameters.chute_file: '{path}' needs at least 4 rows, got {x.size}"
+                f"parameters.chute_file: '{path}' needs at least 5 rows, got {x.size}"
             )
         if not (np.all(np.isfinite(x)) and np.all(np.isfinite(values))):
             raise ConfigError(f"parameters.chute_file: '{path}' has empty or non-finite entries")

@@ -28,7 +28,7 @@ from numba import njit
 from numpy.typing import NDArray
 
 from conslaw.errors import ConfigError
-from conslaw.exact import ExactSolution
+from conslaw.exact import ExactSolution, Unavailable
 from conslaw.grid import Grid
 from conslaw.initial import InitialCondition
 from conslaw.model import Model
@@ -209,9 +209,18 @@ class ShallowWater(Model):
         return np.ascontiguousarray(np.vstack([h, h * float(velocity_value)]))
 
     def exact_solution(
-        self, initial: InitialCondition, grid: Grid, boundary: Mapping[str, Any]
+        self, initial: InitialCondition, grid: Grid, context: Mapping[str, Any]
     ) -> ExactSolution | None:
-        """Stoker/Ritter for one jump between two states at rest on a flat bed, else None."""
+        """Stoker/Ritter for one jump between two states at rest on a flat bed, with outflow
+        boundaries that no wave reaches by ``t_end``; else None or Unavailable."""
         if initial.kind != "piecewise-constant" or self.has_bed:
             return None
-        return DamBreak.from_initial(initial, self.params.g)
+        dam = DamBreak.from_initial(initial, self.params.g)
+        if dam is None:
+            return None
+        if (context["left"], context["right"]) != ("outflow", "outflow"):
+            raise Unavailable("the exact dam-break solution assumes outflow boundaries")
+        low, high = dam.wave_extent(float(context["t_end"]))
+        if low < grid.x_min or high > grid.x_max:
+            raise Unavailable(f"a wave reaches the boundary before t={context['t_end']:g}")
+        return dam

@@ -131,6 +131,14 @@ class DamBreak(ExactSolution):
         """Exact (h, hu) at the points x."""
         return self._evaluate(x, t, averages=False)
 
+    def wave_extent(self, t: float) -> tuple[float, float]:
+        """Leftmost and rightmost position reached by the waves at time t."""
+        points, _ = self._structure(t) if t > 0 else (np.array([0.0, 0.0]), [])
+        low, high = float(points[0]), float(points[-1])
+        if self._mirrored:
+            low, high = -high, -low
+        return self.x0 + low, self.x0 + high
+
     def front_position(self, t: float) -> float:
         """Position of the wet/dry front (Ritter) or of the shock (Stoker) at time t."""
         points, _ = self._structure(t)

@@ -27,7 +27,7 @@ def main() -> None:
     header = " | ".join(f"L1 N={n}" for n in cells)
     pairs = " | ".join(f"{a}->{b}" for a, b in itertools.pairwise(cells))
     print(f"| reconstructor | {header} | order {pairs} |")
-    print("|---" * (2 + 2 * len(cells) - 1) + "|")
+    print("|---" * (2 * len(cells)) + "|")
     for name in registry.reconstructors.names():
         errors = [
             conslaw.run(args.scene, n_cells=n, reconstructor=name).headline_error() for n in cells

@@ -65,3 +65,28 @@ def test_parse_value(text: str, value: object) -> None:
 def test_invalid_scenes_are_config_errors(overrides: dict[str, object], fragment: str) -> None:
     with pytest.raises(ConfigError, match=fragment.replace("[", r"\[").replace(".", r"\.")):
         conslaw.run("burgers-riemann", **{k.replace(".", "__"): v for k, v in overrides.items()})
+
+
+@pytest.mark.parametrize(
+    ("scene", "overrides", "reason"),
+    [
+        ("burgers-riemann", {"t_end": 3.0}, "interact at t=2"),
+        (
+            "burgers-riemann",
+            {"boundary__left": "periodic", "boundary__right": "periodic"},
+            "outflow",
+        ),
+        ("burgers-sine", {"t_end": 0.5}, "breaks"),
+        ("dam-break-wet", {"t_end": 8.0}, "reaches the boundary"),
+        ("dam-break-wet", {"boundary__left": "wall"}, "outflow"),
+        ("sh-similarity", {"initial__thin_layer": 0.5}, "thin layer"),
+        ("sh-at-rest", {"exact": True, "t_end": 1.0}, "rear margin would move upslope"),
+    ],
+)
+def test_exact_comparison_only_where_it_applies(
+    scene: str, overrides: dict[str, object], reason: str
+) -> None:
+    """No error against an exact solution that does not apply; the reason is reported."""
+    result = conslaw.run(scene, n_cells=40, **overrides)
+    assert result.exact_solution is None and result.errors[-1] is None
+    assert result.exact_note is not None and reason in result.exact_note

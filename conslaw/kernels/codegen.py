@@ -75,11 +75,16 @@ def import_path(function: Callable[..., Any]) -> tuple[str, str]:
 
 
 def _module_source(module_name: str) -> str:
+    """The source of the module and of every module beside it in its package folder, so that
+    editing a helper the bound function imports from a sibling module also recompiles."""
     module = importlib.import_module(module_name)
     try:
-        return inspect.getsource(module)
+        path = Path(inspect.getfile(module))
     except (OSError, TypeError):
         return module_name
+    return "\0".join(
+        f"{sibling.name}\0{sibling.read_text()}" for sibling in sorted(path.parent.glob("*.py"))
+    )
 
 
 def generate(
@@ -104,10 +109,12 @@ def generate(
     _, tail = rest.split(_END, 1)
     lines = [_BEGIN]
     sources = [text]
+    modules = set()
     for placeholder, function in sorted(bindings.items()):
         module_name, name = import_path(function)
         lines.append(f"from {module_name} import {name} as {placeholder}")
-        sources.append(_module_source(module_name))
+        modules.add(module_name)
+    sources.extend(_module_source(module_name) for module_name in sorted(modules))
     for key, value in sorted(constants.items()):
         lines.append(f"{key} = {value!r}")
     lines.append(_END)

@@ -64,6 +64,7 @@ STATUS_PAUSED = 1
 STATUS_INADMISSIBLE = 2
 STATUS_DT_FLOOR = 3
 STATUS_CFL_UNREACHABLE = 4
+STATUS_SPEED_NOT_FINITE = 5
 # Courant number that the second half of a step pair must stay below (eq. 17: strictly < 1/2).
 CFL_LIMIT = 0.5
 MAX_RETRIES = 60
@@ -82,7 +83,8 @@ def fill_ghosts(w, n, staggered, bc_left, bc_right):  # type: ignore[no-untyped-
 
 @njit(cache=True)
 def max_speed(w, n, aux, params):  # type: ignore[no-untyped-def]
-    """Largest wave speed over the real cells; ``(-1, i)`` at the first inadmissible cell i."""
+    """Largest wave speed over the real cells; ``(-1, i)`` at the first inadmissible cell i,
+    ``(-2, i)`` at the first cell whose wave speed is not finite (an overflow)."""
     nv = w.shape[0]
     state = np.empty(nv)
     coefficients = np.empty(aux.shape[0])
@@ -96,10 +98,16 @@ def max_speed(w, n, aux, params):  # type: ignore[no-untyped-def]
             return -1.0, i - NG
         speed = _max_speed_point(state, coefficients, params)
         if not (speed >= 0.0 and speed < np.inf):
-            return -1.0, i - NG
+            return -2.0, i - NG
         if speed > largest:
             largest = speed
     return largest, -1
+
+
+@njit(cache=True)
+def failure(code):  # type: ignore[no-untyped-def]
+    """Status for a failed ``max_speed`` (its negative speed is the reason code)."""
+    return STATUS_SPEED_NOT_FINITE if code == -2.0 else STATUS_INADMISSIBLE
 
 
 @njit(cache=True)
@@ -379,7 +387,7 @@ def advance(  # type: ignore[no-untyped-def]
             return t, pairs, STATUS_PAUSED, 0, -1, dt
         speed, bad = max_speed(w0, n0, aux0, params)
         if bad >= 0:
-            return t, pairs, STATUS_INADMISSIBLE, 0, bad, dt
+            return t, pairs, failure(speed), 0, bad, dt
         remaining = t_end - t
         dt = cfl * dx / speed if speed > 0.0 else remaining
         last = False
@@ -401,7 +409,7 @@ def advance(  # type: ignore[no-untyped-def]
                 continue
             speed1, bad = max_speed(w1, n1, aux1, params)
             if bad >= 0:
-                return t, pairs, STATUS_INADMISSIBLE, 1, bad, dt
+                return t, pairs, failure(speed1), 1, bad, dt
             if speed1 * dt / dx >= CFL_LIMIT:
                 dt = cfl * dx / speed1
                 last = False
@@ -433,5 +441,5 @@ def advance(  # type: ignore[no-untyped-def]
         pairs += 1
     speed, bad = max_speed(w0, n0, aux0, params)
     if bad >= 0:
-        return t, pairs, STATUS_INADMISSIBLE, 0, bad, dt
+        return t, pairs, failure(speed), 0, bad, dt
     return t, pairs, STATUS_DONE, 0, -1, dt

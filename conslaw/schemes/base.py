@@ -77,13 +77,18 @@ class Scheme(ABC):
     def advance(
         self, state: State, t_end: float, progress: ProgressCallback | None = None
     ) -> AdvanceResult:
-        """Advance to ``t_end`` exactly (generic loop; schemes may provide a faster one)."""
+        """Advance to ``t_end`` (generic loop for plugin schemes; schemes may provide a faster
+        one). The last step is shortened to reach ``t_end`` and the returned time is ``t_end``
+        itself. A staggered scheme must override this to end on its primary grid."""
         steps = 0
         while state.t < t_end:
             dt = min(self.stable_dt(state), t_end - state.t)
             if not dt > 0.0:
                 raise SchemeBreakdownError(f"time step collapsed to {dt:g} at t={state.t:g}")
+            last = dt >= t_end - state.t
             state = self.step(state, dt)
+            if last:
+                state = State(t_end, state.x, state.q, state.offset)
             steps += 1
             if progress is not None:
                 progress(state.t, steps)
@@ -95,7 +100,7 @@ class Scheme(ABC):
         if not ok.all():
             cell = int((~ok).nonzero()[0][0])
             values = ", ".join(
-                f"{name}={state.q[v, cell]!r}" for v, name in enumerate(self.model.variables)
+                f"{name}={float(state.q[v, cell])!r}" for v, name in enumerate(self.model.variables)
             )
             raise InadmissibleStateError(
                 f"inadmissible state at t={state.t:.6g}, step {step}, cell {cell} "

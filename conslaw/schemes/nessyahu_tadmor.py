@@ -418,18 +418,22 @@ class NessyahuTadmor(Scheme):
         self, status: int, family: int, cell: int, t: float, steps: int, dt: float
     ) -> None:
         k = self.kernels
-        if status == k.STATUS_INADMISSIBLE:
+        if status in (k.STATUS_INADMISSIBLE, k.STATUS_SPEED_NOT_FINITE):
             buffer = self._w0 if family == 0 else self._w1
-            offset = 0.5 * family
-            x = self.grid.centres(offset, self.periodic)[cell]
+            x = self.grid.centres(0.5 * family, self.periodic)[cell]
             values = ", ".join(
-                f"{name}={buffer[v, GHOSTS + cell]!r}"
+                f"{name}={float(buffer[v, GHOSTS + cell])!r}"
                 for v, name in enumerate(self.model.variables)
             )
-            where = "staggered cell" if family else "cell"
+            kind = "staggered cell" if family else "cell"
+            where = f"t={t:.6g}, step {steps + family}, {kind} {cell} (x={x:.6g})"
+            if status == k.STATUS_SPEED_NOT_FINITE:
+                raise InadmissibleStateError(
+                    f"the wave speed is not finite (overflow) at {where}: {values}; "
+                    "check the magnitudes of the parameters"
+                )
             raise InadmissibleStateError(
-                f"inadmissible state at t={t:.6g}, step {steps + family}, {where} {cell} "
-                f"(x={x:.6g}): {values}"
+                f"inadmissible state at {where}: {values} (need {self.model.admissible_rule})"
             )
         if status == k.STATUS_DT_FLOOR:
             raise SchemeBreakdownError(
