@@ -7,8 +7,12 @@ by zero anywhere) and it holds no momentum.
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 import numpy as np
 from numba import njit
+
+from conslaw.model import Model
 
 #: Index of the dry tolerance in the packed parameter vector of every depth-averaged model.
 DRY = 1
@@ -35,3 +39,20 @@ def admissible_point(q, aux, params):  # type: ignore[no-untyped-def]
     if q[0] < 0.0:
         return False
     return q[0] >= params[DRY] or q[1] == 0.0
+
+
+class DepthAveragedModel(Model):
+    """Base of the models with ``q = (h, m = h u)``: the depth and momentum rows, the dry-state
+    rules above, and the dry tolerance (a ``dry_tolerance`` field of the parameters)."""
+
+    variables: ClassVar[tuple[str, ...]] = ("h", "hu")
+    reflect_signs: ClassVar[tuple[float, ...]] = (1.0, -1.0)
+    depth_index: ClassVar[int | None] = 0
+    momentum_index: ClassVar[int | None] = 1
+    admissible_rule: ClassVar[str] = "finite h >= 0, and hu = 0 where h < dry_tolerance"
+    correct_point = staticmethod(correct_point)
+    admissible_point = staticmethod(admissible_point)
+
+    def dry_depth(self) -> float:
+        """The ``dry_tolerance`` parameter."""
+        return float(self.params.dry_tolerance)

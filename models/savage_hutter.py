@@ -27,9 +27,8 @@ from conslaw.errors import ConfigError
 from conslaw.exact import ExactSolution, Unavailable, piecewise_cell_averages
 from conslaw.grid import Grid
 from conslaw.initial import InitialCondition
-from conslaw.model import Model
 from conslaw_models.chute import CHUTE_KINDS, Chute, PlaneChute, make_chute
-from conslaw_models.depth_averaged import DRY, admissible_point, correct_point, velocity
+from conslaw_models.depth_averaged import DRY, DepthAveragedModel, velocity
 from conslaw_models.savage_hutter_exact import SimilaritySolution
 
 Array = NDArray[np.float64]
@@ -168,7 +167,7 @@ class SavageHutterParameters:
             )
 
 
-class SavageHutter(Model):
+class SavageHutter(DepthAveragedModel):
     """Savage–Hutter granular avalanche, ``q = (h, m = h u)``, on a curved chute.
 
     The earth-pressure coefficient is decided per cell, every step, from the sign of the
@@ -179,15 +178,10 @@ class SavageHutter(Model):
 
     name = "savage-hutter"
     description = "Savage–Hutter avalanche (h, hu): earth pressure, Coulomb friction, curved chute"
-    variables = ("h", "hu")
     aux_names = ("sin_zeta", "cos_zeta", "lambda_kappa", "K")
-    reflect_signs = (1.0, -1.0)
     aux_reflect_signs = (-1.0, 1.0, 1.0, 1.0)
     has_source = True
-    depth_index = 0
-    momentum_index = 1
     Parameters = SavageHutterParameters
-    admissible_rule = "finite h >= 0, and hu = 0 where h < dry_tolerance"
     initial_kinds: ClassVar[dict[str, tuple[tuple[str, ...], dict[str, Any], str]]] = {
         "parabolic-cap": (
             ("centre", "radius", "height"),
@@ -201,8 +195,6 @@ class SavageHutter(Model):
     source_point = staticmethod(source_point)
     resistance_point = staticmethod(resistance_point)
     coefficients_point = staticmethod(coefficients_point)
-    correct_point = staticmethod(correct_point)
-    admissible_point = staticmethod(admissible_point)
 
     def __init__(self, **params: Any) -> None:
         super().__init__(**params)
@@ -238,10 +230,6 @@ class SavageHutter(Model):
             "resistance": self.params.delta > 0.0,
             "dynamic_coefficients": self.k_active != self.k_passive,
         }
-
-    def dry_depth(self) -> float:
-        """The ``dry_tolerance`` parameter."""
-        return float(self.params.dry_tolerance)
 
     def aux(self, x: Array, dx: float) -> Array:
         """``sin zeta``, ``cos zeta``, ``lambda kappa`` at x, and ``K = K_act``."""

@@ -31,8 +31,7 @@ from conslaw.errors import ConfigError
 from conslaw.exact import ExactSolution, Unavailable
 from conslaw.grid import Grid
 from conslaw.initial import InitialCondition
-from conslaw.model import Model
-from conslaw_models.depth_averaged import DRY, admissible_point, correct_point, velocity
+from conslaw_models.depth_averaged import DRY, DepthAveragedModel, velocity
 from conslaw_models.shallow_water_exact import DamBreak
 
 Array = NDArray[np.float64]
@@ -114,7 +113,7 @@ class ShallowWaterParameters:
             raise ConfigError(f"parameters.bump_width: must be > 0, got {self.bump_width}")
 
 
-class ShallowWater(Model):
+class ShallowWater(DepthAveragedModel):
     """Shallow-water equations, ``q = (h, hu)``, with gravity ``g`` and an optional bed ``b(x)``.
 
     Exact solutions (flat bed): the Stoker (wet) and Ritter (dry) dam breaks for a single jump at
@@ -124,16 +123,11 @@ class ShallowWater(Model):
 
     name = "shallow-water"
     description = "shallow-water equations (h, hu), optional bed, dry states, well-balanced"
-    variables = ("h", "hu")
     aux_names = ("bed", "bed_slope")
-    reflect_signs = (1.0, -1.0)
     aux_reflect_signs = (1.0, -1.0)
     has_source = True
-    depth_index = 0
-    momentum_index = 1
     surface_aux = (BED, BED_SLOPE)
     Parameters = ShallowWaterParameters
-    admissible_rule = "finite h >= 0, and hu = 0 where h < dry_tolerance"
     initial_kinds: ClassVar[dict[str, tuple[tuple[str, ...], dict[str, Any], str]]] = {
         "still-water": (
             ("surface",),
@@ -146,12 +140,6 @@ class ShallowWater(Model):
     max_speed_point = staticmethod(max_speed_point)
     source_point = staticmethod(source_point)
     balanced_source_point = staticmethod(balanced_source_point)
-    correct_point = staticmethod(correct_point)
-    admissible_point = staticmethod(admissible_point)
-
-    def dry_depth(self) -> float:
-        """The ``dry_tolerance`` parameter."""
-        return float(self.params.dry_tolerance)
 
     @property
     def has_bed(self) -> bool:
