@@ -274,8 +274,10 @@ class SavageHutter(DepthAveragedModel):
         the same problem; at 1e-4, as in the paper, it floors the error at about 1e-4), or when a
         margin leaves the domain before ``t_end``.
         """
-        if initial.kind != "parabolic-cap" or not isinstance(self.chute, PlaneChute):
+        if initial.kind != "parabolic-cap":
             return None
+        if not isinstance(self.chute, PlaneChute):
+            raise Unavailable("the similarity solution needs a plane chute (chute = 'plane')")
         p = self.params
         options = initial.options
         height, radius = float(options["height"]), float(options["radius"])

@@ -28,16 +28,22 @@ HAS_DYNAMIC_COEFFICIENTS = False
 
 
 @njit(cache=True)
+def load_column(q, aux, i, state, coefficients):  # type: ignore[no-untyped-def]
+    """Copy column i of the state and of the coefficients into the scratch vectors."""
+    for v in range(q.shape[0]):
+        state[v] = q[v, i]
+    for k in range(aux.shape[0]):
+        coefficients[k] = aux[k, i]
+
+
+@njit(cache=True)
 def flux_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
     nv = q.shape[0]
     state = np.empty(nv)
     result = np.empty(nv)
     coefficients = np.empty(aux.shape[0])
     for i in range(q.shape[1]):
-        for v in range(nv):
-            state[v] = q[v, i]
-        for k in range(aux.shape[0]):
-            coefficients[k] = aux[k, i]
+        load_column(q, aux, i, state, coefficients)
         _flux_point(state, coefficients, params, result)
         for v in range(nv):
             out[v, i] = result[v]
@@ -50,10 +56,7 @@ def jacobian_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
     matrix = np.empty((nv, nv))
     coefficients = np.empty(aux.shape[0])
     for i in range(q.shape[1]):
-        for v in range(nv):
-            state[v] = q[v, i]
-        for k in range(aux.shape[0]):
-            coefficients[k] = aux[k, i]
+        load_column(q, aux, i, state, coefficients)
         _jacobian_point(state, coefficients, params, matrix)
         for r in range(nv):
             for c in range(nv):
@@ -66,10 +69,7 @@ def max_speed_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
     state = np.empty(nv)
     coefficients = np.empty(aux.shape[0])
     for i in range(q.shape[1]):
-        for v in range(nv):
-            state[v] = q[v, i]
-        for k in range(aux.shape[0]):
-            coefficients[k] = aux[k, i]
+        load_column(q, aux, i, state, coefficients)
         out[i] = _max_speed_point(state, coefficients, params)
 
 
@@ -80,10 +80,7 @@ def source_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
     result = np.zeros(nv)
     coefficients = np.empty(aux.shape[0])
     for i in range(q.shape[1]):
-        for v in range(nv):
-            state[v] = q[v, i]
-        for k in range(aux.shape[0]):
-            coefficients[k] = aux[k, i]
+        load_column(q, aux, i, state, coefficients)
         if HAS_SOURCE:
             _source_point(state, coefficients, params, result)
         for v in range(nv):
@@ -96,10 +93,7 @@ def admissible_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
     state = np.empty(nv)
     coefficients = np.empty(aux.shape[0])
     for i in range(q.shape[1]):
-        for v in range(nv):
-            state[v] = q[v, i]
-        for k in range(aux.shape[0]):
-            coefficients[k] = aux[k, i]
+        load_column(q, aux, i, state, coefficients)
         out[i] = _admissible_point(state, coefficients, params)
 
 
@@ -130,10 +124,7 @@ def correct_cells(q, aux, params, dt):  # type: ignore[no-untyped-def]
     state = np.empty(nv)
     coefficients = np.empty(aux.shape[0])
     for i in range(q.shape[1]):
-        for v in range(nv):
-            state[v] = q[v, i]
-        for k in range(aux.shape[0]):
-            coefficients[k] = aux[k, i]
+        load_column(q, aux, i, state, coefficients)
         if HAS_CORRECTION:
             _correct_point(state, coefficients, params, dt)
         for v in range(nv):
@@ -146,10 +137,7 @@ def resistance_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
     state = np.empty(nv)
     coefficients = np.empty(aux.shape[0])
     for i in range(q.shape[1]):
-        for v in range(nv):
-            state[v] = q[v, i]
-        for k in range(aux.shape[0]):
-            coefficients[k] = aux[k, i]
+        load_column(q, aux, i, state, coefficients)
         if HAS_RESISTANCE:
             out[i] = _resistance_point(state, coefficients, params)
 
