@@ -1,4 +1,4 @@
-"""Error norms, observed orders of accuracy, conservation and total variation."""
+"""Error norms, observed orders of accuracy and conserved totals."""
 
 from __future__ import annotations
 
@@ -40,11 +40,6 @@ def observed_orders(n_cells: Sequence[int], errors: Sequence[float]) -> list[flo
         float(np.log(errors[k] / errors[k + 1]) / np.log(n_cells[k + 1] / n_cells[k]))
         for k in range(len(errors) - 1)
     ]
-
-
-def total_variation(u: Array) -> float:
-    """``sum |u_{i+1} - u_i|`` along the last axis (summed over variables)."""
-    return float(np.sum(np.abs(np.diff(np.asarray(u, dtype=np.float64), axis=-1))))
 
 
 def total_mass(q: Array, dx: float) -> Array:

@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from conslaw import registry
-from conslaw.errors import ConfigError, unknown_name_message
+from conslaw.errors import ConfigError, finite_number, unknown_name_message
 from conslaw.grid import MAX_CELLS
 from conslaw.initial import InitialCondition
 
@@ -172,12 +172,7 @@ def apply_overrides(table: dict[str, Any], overrides: Mapping[str, Any]) -> dict
 
 
 def _number(table: Mapping[str, Any], key: str) -> float:
-    value = table[key]
-    if isinstance(value, bool) or not isinstance(value, int | float):
-        raise ConfigError(f"scene key '{key}': expected a number, got {value!r}")
-    if not math.isfinite(value):
-        raise ConfigError(f"scene key '{key}': must be finite, got {value!r}")
-    return float(value)
+    return finite_number(table[key], f"scene key '{key}'")
 
 
 def _name(table: Mapping[str, Any], key: str, known: registry.Registry[Any]) -> str:

@@ -7,6 +7,7 @@ exit code 2 (see :mod:`conslaw.cli`).
 from __future__ import annotations
 
 import difflib
+import math
 from collections.abc import Iterable
 
 
@@ -32,3 +33,11 @@ def unknown_name_message(kind: str, name: str, allowed: Iterable[str]) -> str:
     close = difflib.get_close_matches(str(name), allowed, n=1)
     hint = f"; did you mean '{close[0]}'?" if close else ""
     return f"unknown {kind} '{name}'; allowed: {', '.join(allowed)}{hint}"
+
+
+def finite_number(value: object, label: str) -> float:
+    """``value`` as a float if it is a finite int or float (not a bool); else a ConfigError
+    ``"<label>: expected a finite number, got <value>"``."""
+    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+        raise ConfigError(f"{label}: expected a finite number, got {value!r}")
+    return float(value)

@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from conslaw.errors import ConfigError, unknown_name_message
+from conslaw.errors import ConfigError, finite_number, unknown_name_message
 from conslaw.grid import Grid
 
 if TYPE_CHECKING:
@@ -42,11 +42,7 @@ INITIAL_KINDS: dict[str, tuple[tuple[str, ...], dict[str, Any], str]] = {
 
 
 def _number(value: Any, key: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float):
-        raise ConfigError(f"initial.{key}: expected a number, got {value!r}")
-    if not np.isfinite(value):
-        raise ConfigError(f"initial.{key}: must be finite, got {value!r}")
-    return float(value)
+    return finite_number(value, f"initial.{key}")
 
 
 @dataclass(frozen=True)

@@ -27,7 +27,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.interpolate import PchipInterpolator, make_smoothing_spline
 
-from conslaw.errors import ConfigError
+from conslaw.errors import ConfigError, finite_number
 
 Array = NDArray[np.float64]
 
@@ -61,8 +61,7 @@ class Chute:
 
 
 def _angle(value: float, name: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
-        raise ConfigError(f"parameters.{name}: expected an angle in degrees, got {value!r}")
+    value = finite_number(value, f"parameters.{name} (an angle in degrees)")
     if not -90.0 < value < 90.0:
         raise ConfigError(f"parameters.{name}: angle must be in (-90, 90) degrees, got {value}")
     return math.radians(value)
@@ -180,12 +179,7 @@ def make_chute(
             ("transition_start", transition_start),
             ("transition_end", transition_end),
         ):
-            if (
-                isinstance(value, bool)
-                or not isinstance(value, int | float)
-                or not math.isfinite(value)
-            ):
-                raise ConfigError(f"parameters.{name}: expected a number, got {value!r}")
+            finite_number(value, f"parameters.{name}")
         if not transition_end > transition_start:
             raise ConfigError(
                 "parameters.transition_end must be > transition_start, got "

@@ -23,7 +23,7 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-from conslaw.errors import ConfigError
+from conslaw.errors import ConfigError, finite_number
 from conslaw.exact import ExactSolution, Unavailable, piecewise_cell_averages
 from conslaw.grid import Grid
 from conslaw.initial import InitialCondition
@@ -130,13 +130,7 @@ class SavageHutterParameters:
 
     def __post_init__(self) -> None:
         for name in ("epsilon", "phi", "delta", "dry_tolerance"):
-            value = getattr(self, name)
-            if (
-                isinstance(value, bool)
-                or not isinstance(value, int | float)
-                or not math.isfinite(value)
-            ):
-                raise ConfigError(f"parameters.{name}: expected a finite number, got {value!r}")
+            finite_number(getattr(self, name), f"parameters.{name}")
         if not self.epsilon > 0:
             raise ConfigError(f"parameters.epsilon: must be > 0, got {self.epsilon}")
         if not 0 <= self.phi < 90:
@@ -250,14 +244,7 @@ class SavageHutter(DepthAveragedModel):
         """``parabolic-cap``: exact cell averages of the cap plus the thin layer, at rest."""
         values = {}
         for key in ("centre", "radius", "height", "thin_layer"):
-            value = options[key]
-            if (
-                isinstance(value, bool)
-                or not isinstance(value, int | float)
-                or not math.isfinite(value)
-            ):
-                raise ConfigError(f"initial.{key}: expected a finite number, got {value!r}")
-            values[key] = float(value)
+            values[key] = finite_number(options[key], f"initial.{key}")
         if values["radius"] <= 0 or values["height"] < 0 or values["thin_layer"] < 0:
             raise ConfigError("initial: need radius > 0, height >= 0 and thin_layer >= 0")
         cap = cap_profile(values["centre"], values["radius"], values["height"])

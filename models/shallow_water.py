@@ -27,7 +27,7 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-from conslaw.errors import ConfigError
+from conslaw.errors import ConfigError, finite_number
 from conslaw.exact import ExactSolution, Unavailable
 from conslaw.grid import Grid
 from conslaw.initial import InitialCondition
@@ -96,13 +96,7 @@ class ShallowWaterParameters:
 
     def __post_init__(self) -> None:
         for name in ("g", "dry_tolerance", "bump_height", "bump_centre", "bump_width"):
-            value = getattr(self, name)
-            if (
-                isinstance(value, bool)
-                or not isinstance(value, int | float)
-                or not math.isfinite(value)
-            ):
-                raise ConfigError(f"parameters.{name}: expected a finite number, got {value!r}")
+            finite_number(getattr(self, name), f"parameters.{name}")
         if not self.g > 0:
             raise ConfigError(f"parameters.g: gravity must be > 0, got {self.g}")
         if not 0 <= self.dry_tolerance < 1e-3:
@@ -186,12 +180,7 @@ class ShallowWater(DepthAveragedModel):
         surface = options["surface"]
         velocity_value = options["velocity"]
         for key, value in (("surface", surface), ("velocity", velocity_value)):
-            if (
-                isinstance(value, bool)
-                or not isinstance(value, int | float)
-                or not math.isfinite(value)
-            ):
-                raise ConfigError(f"initial.{key}: expected a finite number, got {value!r}")
+            finite_number(value, f"initial.{key}")
         bed = self.aux(grid.centres(), grid.dx)[BED]
         h = np.maximum(float(surface) - bed, 0.0)
         return np.ascontiguousarray(np.vstack([h, h * float(velocity_value)]))

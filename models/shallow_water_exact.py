@@ -138,9 +138,3 @@ class DamBreak(ExactSolution):
         if self._mirrored:
             low, high = -high, -low
         return self.x0 + low, self.x0 + high
-
-    def front_position(self, t: float) -> float:
-        """Position of the wet/dry front (Ritter) or of the shock (Stoker) at time t."""
-        points, _ = self._structure(t)
-        position = float(points[-1])
-        return self.x0 - position if self._mirrored else self.x0 + position
