@@ -29,6 +29,7 @@ DEFAULTS: dict[str, Any] = {
     "scheme": "nessyahu-tadmor",
     "reconstructor": "mc",
     "cfl": 0.45,
+    "front_tracking": False,
     "n_cells": REQUIRED,
     "x_min": REQUIRED,
     "x_max": REQUIRED,
@@ -48,6 +49,7 @@ KEY_HELP: dict[str, str] = {
     "scheme": "registered scheme name",
     "reconstructor": "slope reconstruction: none, minmod, superbee, vanleer, mc, weno3, weno5",
     "cfl": "target Courant number, 0 < cfl < 0.5 (paper eq. 17)",
+    "front_tracking": "track the margins of the body (NOC-FT, nessyahu-tadmor, models with depth)",
     "n_cells": "number of cells, integer >= 4",
     "x_min": "left end of the domain",
     "x_max": "right end of the domain",
@@ -97,6 +99,7 @@ class Scene:
     initial: InitialCondition
     output_formats: tuple[str, ...]
     plot: bool
+    front_tracking: bool = False
 
     def to_table(self) -> dict[str, Any]:
         """The resolved scene as a TOML-ready mapping (written next to every output)."""
@@ -106,6 +109,7 @@ class Scene:
             "scheme": self.scheme,
             "reconstructor": self.reconstructor,
             "cfl": self.cfl,
+            "front_tracking": self.front_tracking,
             "n_cells": self.n_cells,
             "x_min": self.x_min,
             "x_max": self.x_max,
@@ -279,6 +283,16 @@ def validate(name: str, raw: Mapping[str, Any], folder: Path | None = None) -> S
     times = sorted({_number({"output_times": t}, "output_times") for t in times_raw} | {t_end})
     if times[0] < 0.0 or times[-1] > t_end:
         raise ConfigError(f"scene key 'output_times': every time must be in [0, t_end={t_end}]")
+    front_tracking = table["front_tracking"]
+    if not isinstance(front_tracking, bool):
+        raise ConfigError(
+            f"scene key 'front_tracking': expected true or false, got {front_tracking!r}"
+        )
+    if front_tracking and scheme != "nessyahu-tadmor":
+        raise ConfigError(
+            f"scene key 'front_tracking': an option of the nessyahu-tadmor scheme, not of "
+            f"'{scheme}'"
+        )
     if not isinstance(table["exact"], bool):
         raise ConfigError(f"scene key 'exact': expected true or false, got {table['exact']!r}")
 
@@ -290,7 +304,12 @@ def validate(name: str, raw: Mapping[str, Any], folder: Path | None = None) -> S
             f"boundary: 'periodic' must be used on both sides, got left='{left.kind}', "
             f"right='{right.kind}'"
         )
-    registry.models.get(model)(**parameters)  # the model validates its own parameters
+    model_object = registry.models.get(model)(**parameters)  # validates its own parameters
+    if front_tracking and (model_object.depth_index is None or model_object.n_vars != 2):
+        raise ConfigError(
+            f"scene key 'front_tracking': needs a model with a depth variable, q = (h, hu); "
+            f"'{model}' has none"
+        )
     initial = InitialCondition.from_table(table["initial"], registry.models.get(model))
     output = _check_table(table["output"], "output", OUTPUT_KEYS)
     formats = output.get("formats", ["npz"])
@@ -320,6 +339,7 @@ def validate(name: str, raw: Mapping[str, Any], folder: Path | None = None) -> S
         initial=initial,
         output_formats=tuple(formats),
         plot=plot,
+        front_tracking=front_tracking,
     )
 
 

@@ -43,6 +43,8 @@ class ConvergenceRow:
     l2: float
     linf: float
     order_l1: float | None
+    margin_error: float | None = None
+    order_margin: float | None = None
 
 
 @dataclass
@@ -57,18 +59,26 @@ class ConvergenceStudy:
     import_seconds: float | None = None
 
     def table(self) -> str:
-        """Markdown table of the rows."""
+        """Markdown table of the rows (with the margin error and its order when the margins
+        are tracked and the exact solution has margins)."""
+        margins = any(r.margin_error is not None for r in self.rows)
+        extra = " margin error | order margin |" if margins else ""
         lines = [
             "| scheme | reconstructor | N | steps | solve s (median, min-max) | L1 | L2 | Linf "
-            "| order L1 |",
-            "|---|---|---|---|---|---|---|---|---|",
+            "| order L1 |" + extra,
+            "|---|---|---|---|---|---|---|---|---|" + ("---|---|" if margins else ""),
         ]
         for r in self.rows:
-            order = "-" if r.order_l1 is None else f"{r.order_l1:.2f}"
+            order = _format(r.order_l1, ".2f")
+            cells = (
+                f" {_format(r.margin_error, '.3e')} | {_format(r.order_margin, '.2f')} |"
+                if margins
+                else ""
+            )
             lines.append(
                 f"| {r.scheme} | {r.reconstructor} | {r.n_cells} | {r.steps} | "
                 f"{r.solve_median:.4f} ({r.solve_min:.4f}-{r.solve_max:.4f}) | {r.l1:.3e} | "
-                f"{r.l2:.3e} | {r.linf:.3e} | {order} |"
+                f"{r.l2:.3e} | {r.linf:.3e} | {order} |" + cells
             )
         return "\n".join(lines)
 
@@ -81,6 +91,22 @@ class ConvergenceStudy:
         if self.import_seconds is not None:
             lines.append(f"import conslaw in a fresh process: {self.import_seconds:.2f} s")
         return "\n".join(lines)
+
+
+def _format(value: float | None, spec: str) -> str:
+    return "-" if value is None else format(value, spec)
+
+
+def margin_error(result: Any) -> float | None:
+    """Largest distance of a tracked margin at ``t_end`` from the exact one (None if the run
+    has no tracked margins or the exact solution no margins)."""
+    exact_margins = getattr(result.exact_solution, "margins", None)
+    if result.margins is None or exact_margins is None:
+        return None
+    last = result.margins[-1]
+    rear, front = exact_margins(float(last[0]))
+    distances = [abs(x - e) for x, e in ((last[1], rear), (last[3], front)) if x == x]
+    return max(distances) if distances else None
 
 
 def measure_import_seconds() -> float | None:
@@ -139,6 +165,7 @@ def convergence_study(
                 f"({first.exact_note}); convergence needs one"
             )
         errors: list[float] = []
+        margin_errors: list[float | None] = []
         for n in cells:
             sized = replace(variant, n_cells=n, output_times=(variant.t_end,))
             timings = []
@@ -148,6 +175,13 @@ def convergence_study(
             norms = result.errors[-1]
             assert norms is not None
             errors.append(norms.l1)
+            margin_errors.append(margin_error(result))
+            pair = margin_errors[-2:]
+            order_margin = (
+                observed_orders(cells[len(errors) - 2 : len(errors)], pair)[0]  # type: ignore[arg-type]
+                if len(pair) == 2 and None not in pair and 0.0 not in pair
+                else None
+            )
             order = (
                 None
                 if len(errors) < 2
@@ -157,7 +191,7 @@ def convergence_study(
                 ConvergenceRow(
                     variant.scheme, variant.reconstructor, n, result.steps,
                     statistics.median(timings), min(timings), max(timings),
-                    norms.l1, norms.l2, norms.linf, order,
+                    norms.l1, norms.l2, norms.linf, order, margin_errors[-1], order_margin,
                 )
             )  # fmt: skip
     if measure_import:

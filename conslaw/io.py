@@ -83,11 +83,25 @@ def write_figure(path: Path, figure: Any) -> Path:
     return atomic_write_bytes(path, buffer.getvalue())
 
 
+MARGIN_COLUMNS = ("t", "x_rear", "u_rear", "x_front", "u_front")
+
+
+def write_margins_csv(path: Path, margins: Any) -> Path:
+    """Atomic CSV of the margin history (columns :data:`MARGIN_COLUMNS`, empty for NaN)."""
+    lines = [",".join(MARGIN_COLUMNS)]
+    for row in np.asarray(margins):
+        lines.append(",".join("" if np.isnan(v) else repr(float(v)) for v in row))
+    return atomic_write_bytes(path, ("\n".join(lines) + "\n").encode())
+
+
 def write_run(result: RunResult, folder: Path) -> list[Path]:
     """Write the states (npz), the resolved scene (TOML) and, if asked, the profile plot (PNG).
 
     ``states.npz`` holds ``t`` (n_out,), ``x`` (n,), ``q`` (n_out, n_vars, n), ``variables``,
-    ``edges``, and ``q_exact`` (exact cell averages, NaN where unknown).
+    ``edges``, and ``q_exact`` (exact cell averages, NaN where unknown); with front tracking also
+    ``margins`` (rows ``t, x_rear, u_rear, x_front, u_front`` after every step, NaN for a margin
+    that does not exist), which is also written as ``margins.csv`` and plotted in
+    ``margins.png``.
     """
     folder = prepare_output_dir(folder)
     written = []
@@ -108,15 +122,20 @@ def write_run(result: RunResult, folder: Path) -> list[Path]:
                 q=np.array([s.q for s in result.states]),
                 q_exact=exact,
                 variables=np.array(result.model.variables),
+                **({} if result.margins is None else {"margins": result.margins}),
             )
         )
+    if result.margins is not None:
+        written.append(write_margins_csv(folder / "margins.csv", result.margins))
     written.append(write_toml(folder / "scene.toml", scene.to_table()))
     if scene.plot:
         import matplotlib.pyplot as plt
 
-        from conslaw.plotting import chute_figure, profiles_figure
+        from conslaw.plotting import chute_figure, margins_figure, profiles_figure
 
         figures = [("profiles.png", profiles_figure)]
+        if result.margins is not None:
+            figures.append(("margins.png", margins_figure))
         if getattr(result.model, "chute", None) is not None:
             figures.append(("chute.png", chute_figure))
         for name, build in figures:

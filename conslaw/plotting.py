@@ -58,7 +58,8 @@ def profiles_figure(result: RunResult) -> Any:
     error = result.headline_error()
     subtitle = f", L1 error {error:.3e}" if error is not None else ""
     axes[0, 0].set_title(
-        f"{result.scene.name}: {model.name}, {result.scene.reconstructor}, "
+        f"{result.scene.name}: {model.name}, {result.scene.reconstructor}"
+        f"{' + front tracking' if result.scene.front_tracking else ''}, "
         f"N={result.grid.n_cells}{subtitle}",
         fontsize=10,
     )
@@ -146,5 +147,33 @@ def error_against_cells_figure(study: Any) -> Any:
     axis.set_title(f"{study.scene}: error against N (t = {study.t_end:g})", fontsize=10)
     axis.grid(True, which="both", alpha=0.3)
     axis.legend(fontsize=8)
+    figure.tight_layout()
+    return figure
+
+
+def margins_figure(result: RunResult) -> Any:
+    """Margin positions and velocities against time (front tracking), with the exact margins
+    where the exact solution provides them."""
+    margins = result.margins
+    assert margins is not None
+    figure, (position_axis, velocity_axis) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+    exact_margins = getattr(result.exact_solution, "margins", None)
+    for column, name, colour in ((1, "rear", "tab:blue"), (3, "front", "tab:red")):
+        if np.all(np.isnan(margins[:, column])):
+            continue
+        position_axis.plot(margins[:, 0], margins[:, column], "-", color=colour, label=name)
+        velocity_axis.plot(margins[:, 0], margins[:, column + 1], "-", color=colour, label=name)
+    if exact_margins is not None:
+        times = np.linspace(margins[0, 0], margins[-1, 0], 200)
+        exact = np.array([exact_margins(t) for t in times])
+        position_axis.plot(times, exact[:, 0], "k--", lw=0.9, label="exact")
+        position_axis.plot(times, exact[:, 1], "k--", lw=0.9)
+    position_axis.set_ylabel("margin position x")
+    velocity_axis.set_ylabel("margin velocity u")
+    velocity_axis.set_xlabel("t")
+    for axis in (position_axis, velocity_axis):
+        axis.grid(alpha=0.3)
+        axis.legend(fontsize=8, loc="best")
+    position_axis.set_title(f"{result.scene.name}: tracked margins")
     figure.tight_layout()
     return figure

@@ -42,6 +42,8 @@ class RunResult:
         Wall time of the time loop (set-up, compilation and output excluded).
     mass_drift : ndarray
         Relative change of the total of every conserved variable from t=0 to the end.
+    margins : ndarray or None
+        With front tracking: rows ``t, x_rear, u_rear, x_front, u_front`` after every step.
     """
 
     scene: Scene
@@ -58,6 +60,7 @@ class RunResult:
     mass_drift: Array
     compile_seconds: float = 0.0
     exact_note: str | None = None
+    margins: Array | None = None
     files: list[Path] = field(default_factory=list)
 
     @property
@@ -86,6 +89,10 @@ def _build(
     left = BoundarySpec(registry.boundaries.get(scene.left.kind), scene.left.options)
     right = BoundarySpec(registry.boundaries.get(scene.right.kind), scene.right.options)
     scheme_class = registry.schemes.get(scene.scheme)
+    if scene.front_tracking:
+        from conslaw.schemes.front_tracking import FrontTrackingNT
+
+        scheme_class = FrontTrackingNT
     scheme = scheme_class(
         model, registry.reconstructors.get(scene.reconstructor), grid, left, right, scene.cfl
     )
@@ -93,6 +100,8 @@ def _build(
     if not np.all(np.isfinite(q0)):
         raise ConfigError("initial: the initial data are not finite (NaN or inf)")
     initial = State(0.0, grid.centres(), q0, 0.0)
+    if scene.front_tracking:
+        initial = scheme.initial_margins(initial)  # type: ignore[attr-defined]
     exact, note = exact_solution_for(scene, model, grid)
     return model, grid, scheme, initial, exact, note
 
@@ -135,6 +144,7 @@ def simulate(scene: Scene, progress: ProgressCallback | None = None) -> RunResul
     states: list[State] = []
     state = initial
     steps = 0
+    margin_rows: list[Array] = []
     started = time.perf_counter()
 
     def report(t: float, n: int) -> None:
@@ -146,6 +156,10 @@ def simulate(scene: Scene, progress: ProgressCallback | None = None) -> RunResul
             advanced = scheme.advance(state, t_out, report)
             state = advanced.state
             steps += advanced.steps
+            if advanced.margins is not None:
+                margin_rows.append(advanced.margins[1:] if margin_rows else advanced.margins)
+        elif state.margins is not None and not margin_rows:
+            margin_rows.append(np.array([state.margins.row(state.t)]))
         states.append(state)
     solve_seconds = time.perf_counter() - started
     exact: list[Array | None] = []
@@ -176,6 +190,7 @@ def simulate(scene: Scene, progress: ProgressCallback | None = None) -> RunResul
         drift,
         compile_seconds,
         exact_note,
+        np.concatenate(margin_rows) if margin_rows else None,
     )
 
 

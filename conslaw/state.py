@@ -2,10 +2,39 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
+
+
+@dataclass(frozen=True)
+class Margin:
+    """An avalanche margin tracked inside its cell: position and velocity (front tracking)."""
+
+    position: float
+    velocity: float
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.position) and math.isfinite(self.velocity)):
+            raise ValueError(f"margin must be finite, got {self.position!r}, {self.velocity!r}")
+
+
+@dataclass(frozen=True)
+class Margins:
+    """The rear (upslope, smaller x) and front margins of one body; None where the body
+    touches the boundary on that side."""
+
+    rear: Margin | None
+    front: Margin | None
+
+    def row(self, t: float) -> tuple[float, float, float, float, float]:
+        """``(t, x_rear, u_rear, x_front, u_front)``, NaN for a missing margin."""
+        nan = math.nan
+        rear = (self.rear.position, self.rear.velocity) if self.rear else (nan, nan)
+        front = (self.front.position, self.front.velocity) if self.front else (nan, nan)
+        return (t, *rear, *front)
 
 
 @dataclass(frozen=True)
@@ -22,12 +51,15 @@ class State:
         Conserved cell averages (float64, C-contiguous, read-only).
     offset : float
         0.0 on the primary grid, 0.5 on the staggered grid of the Nessyahu–Tadmor scheme.
+    margins : Margins or None
+        The tracked margins (front tracking only).
     """
 
     t: float
     x: NDArray[np.float64]
     q: NDArray[np.float64]
     offset: float = 0.0
+    margins: Margins | None = None
 
     def __post_init__(self) -> None:
         q = np.array(self.q, dtype=np.float64, order="C", copy=True, ndmin=2)

@@ -14,24 +14,27 @@ from pathlib import Path
 import conslaw
 
 ROOT = Path(__file__).resolve().parents[1]
-SCENES = {
-    "burgers-riemann": {"n_cells": 1600},
-    "dam-break-wet": {"n_cells": 400},
-    "dam-break-dry": {"n_cells": 400},
-    "sh-similarity": {},
-    "sh-runout-shock": {},
-}
+#: (figure prefix, scene, overrides)
+SCENES = [
+    ("burgers-riemann", "burgers-riemann", {"n_cells": 1600}),
+    ("dam-break-wet", "dam-break-wet", {"n_cells": 400}),
+    ("dam-break-dry", "dam-break-dry", {"n_cells": 400}),
+    ("sh-similarity", "sh-similarity", {}),
+    ("sh-similarity-ft", "sh-similarity-ft", {}),
+    ("sh-runout-shock", "sh-runout-shock", {}),
+    ("sh-runout-shock-ft", "sh-runout-shock", {"front_tracking": True}),
+]
 
 
 def main() -> None:
     target = ROOT / "docs" / "figures"
     target.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory() as folder:
-        for scene, overrides in SCENES.items():
-            result = conslaw.run(scene, out=Path(folder) / scene, **overrides)
+        for prefix, scene, overrides in SCENES:
+            result = conslaw.run(scene, out=Path(folder) / prefix, **overrides)
             for path in result.files:
                 if path.suffix == ".png":
-                    destination = target / f"{scene}-{path.name}"
+                    destination = target / f"{prefix}-{path.name}"
                     shutil.copyfile(path, destination)
                     print(f"wrote {destination}")
 

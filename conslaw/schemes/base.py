@@ -7,6 +7,9 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
+import numpy as np
+from numpy.typing import NDArray
+
 from conslaw.boundary import BoundaryCondition
 from conslaw.errors import ConfigError, InadmissibleStateError, SchemeBreakdownError
 from conslaw.grid import Grid
@@ -25,10 +28,13 @@ class BoundarySpec:
 
 @dataclass(frozen=True)
 class AdvanceResult:
-    """What :meth:`Scheme.advance` returns: the new state and how many time steps it took."""
+    """What :meth:`Scheme.advance` returns: the new state, how many time steps it took and,
+    with front tracking, the margins after every step (rows ``t, x_rear, u_rear, x_front,
+    u_front``)."""
 
     state: State
     steps: int
+    margins: NDArray[np.float64] | None = None
 
 
 ProgressCallback = Callable[[float, int], None]

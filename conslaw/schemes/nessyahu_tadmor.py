@@ -15,6 +15,7 @@ from numpy.typing import NDArray
 from conslaw.errors import ConfigError, InadmissibleStateError, SchemeBreakdownError
 from conslaw.grid import Grid
 from conslaw.kernels.codegen import nt_kernels
+from conslaw.kernels.nt_template import DEPTH_SLOPE_LIMIT
 from conslaw.model import Model
 from conslaw.reconstruct import Reconstructor
 from conslaw.reconstruct.base import STENCIL_HALF_WIDTH
@@ -35,6 +36,38 @@ def _resist(momentum: Array, impulse: Array) -> Array:
     """numpy version of the kernel's ``resist``: stop if ``|m| <= impulse``, never reverse."""
     reduced = momentum - np.sign(momentum) * impulse
     return np.where(np.abs(momentum) <= impulse, 0.0, reduced)
+
+
+class SubcellHooks:
+    """Points where a variant of the numpy NT update may replace the reconstruction in chosen
+    cells (all no-ops here; front tracking overrides them in the margin cells). Arrays are
+    ``(n_vars, n)`` over the source cells of the update, ``x_cells`` their centres."""
+
+    def adjust_source_depths(
+        self,
+        values: Array,
+        slopes: Array,
+        transported: Array,
+        quarter_left: Array,
+        quarter_right: Array,
+    ) -> None:
+        """Replace the quarter-point states of every staggered cell once its transported
+        (flux-updated, source-free) average is known."""
+
+    def stencil_values(self, w: Array, x_padded: Array) -> Array:
+        """The padded values the slope stencils read (``w`` itself here)."""
+        return w
+
+    def adjust_slopes(self, values: Array, slopes: Array, x_cells: Array) -> None:
+        """Replace slopes in place (they define the half-cell integrals of eq. 10)."""
+
+    def adjust_predicted(self, values: Array, predicted: Array, x_cells: Array, dt: float) -> None:
+        """Replace the mid-step point values at the cell centres (eq. 15) in place."""
+
+    def adjust_quarters(
+        self, values: Array, slopes: Array, quarter_left: Array, quarter_right: Array
+    ) -> None:
+        """Replace the quarter-point states of the source integration (eqs. 13-14) in place."""
 
 
 def validate_cfl(cfl: Any) -> float:
@@ -254,20 +287,33 @@ class NessyahuTadmor(Scheme):
 
     def reference_step(self, state: State, dt: float) -> State:
         """The same step as :meth:`step`, written with numpy array operations (for testing)."""
-        n_src, staggered = self._family(state)
+        _, staggered = self._family(state)
         self._check_step(state, dt)
+        new = self._numpy_update(state.q, staggered, dt, SubcellHooks())
+        offset = 0.0 if staggered else 0.5
+        return State(state.t + dt, self.grid.centres(offset, self.periodic), new, offset)
+
+    def _numpy_update(self, q: Array, staggered: bool, dt: float, hooks: SubcellHooks) -> Array:
+        """The NT update of ``q`` (one cell family) in numpy; ``hooks`` may replace the
+        reconstruction of chosen cells (front tracking does so in the margin cells)."""
+        n_src = q.shape[1]
         n_dst = self.n_primary if staggered else self.n_staggered
         centre, left_quarter, right_quarter = self._aux[0.5 if staggered else 0.0]
         nv = self.model.n_vars
         w = np.zeros((nv, n_src + 2 * GHOSTS))
-        w[:, GHOSTS : GHOSTS + n_src] = state.q
+        w[:, GHOSTS : GHOSTS + n_src] = q
         self.left.condition.fill_left(w, n_src, GHOSTS, staggered, self.bc_left)
         self.right.condition.fill_right(w, n_src, GHOSTS, staggered, self.bc_right)
         first = GHOSTS + (0 if staggered else -1)
         cells = slice(first, first + n_dst + 1)
         stencil = slice(first - STENCIL_HALF_WIDTH, first + n_dst + 1 + STENCIL_HALF_WIDTH)
-        slopes = self._reference_slopes(w, centre, stencil, cells)
+        x_padded = self._padded_positions(0.5 if staggered else 0.0)
+        slopes = self._reference_slopes(
+            w, centre, stencil, cells, hooks.stencil_values(w, x_padded)
+        )
         values = w[:, cells]
+        x_cells = x_padded[cells]
+        hooks.adjust_slopes(values, slopes, x_cells)
         model = self.model
         coefficients = model.dynamic_coefficients(values, slopes, centre[:, cells])
         jacobian = model.flux_jacobian(values, coefficients)
@@ -280,34 +326,41 @@ class NessyahuTadmor(Scheme):
             predicted[momentum] = _resist(
                 predicted[momentum], 0.5 * dt * model.resistance(values, coefficients)
             )
+        hooks.adjust_predicted(values, predicted, x_cells, dt)
         flux = model.flux(predicted, coefficients)
         new = (
             0.5 * (values[:, :-1] + values[:, 1:])
             + 0.125 * (slopes[:, :-1] - slopes[:, 1:])
             - dt / self.grid.dx * (flux[:, 1:] - flux[:, :-1])
         )
+        quarter_left, quarter_right = predicted - 0.25 * slopes, predicted + 0.25 * slopes
+        hooks.adjust_quarters(values, slopes, quarter_left, quarter_right)
+        hooks.adjust_source_depths(values, slopes, new, quarter_left, quarter_right)
         if self.uses["balanced_source"]:
             new += dt * model.balanced_source(predicted, centre[:, cells], self.grid.dx)
         elif self.uses["source"]:
-            source_right = model.source(predicted + 0.25 * slopes, right_quarter[:, cells])
-            source_left = model.source(predicted - 0.25 * slopes, left_quarter[:, cells])
+            source_right = model.source(quarter_right, right_quarter[:, cells])
+            source_left = model.source(quarter_left, left_quarter[:, cells])
             new += 0.5 * dt * (source_right[:, :-1] + source_left[:, 1:])
         if self.uses["resistance"]:
             assert momentum is not None
-            resistance_right = model.resistance(predicted + 0.25 * slopes, right_quarter[:, cells])
-            resistance_left = model.resistance(predicted - 0.25 * slopes, left_quarter[:, cells])
+            resistance_right = model.resistance(quarter_right, right_quarter[:, cells])
+            resistance_left = model.resistance(quarter_left, left_quarter[:, cells])
             impulse = 0.5 * dt * (resistance_right[:-1] + resistance_left[1:])
             new[momentum] = _resist(new[momentum], impulse)
         if self.uses["correction"]:
             aux_dst = self._aux[0.0 if staggered else 0.5][0][:, GHOSTS : GHOSTS + n_dst]
             new = model.correct(new, aux_dst, dt)
-        offset = 0.0 if staggered else 0.5
-        return State(state.t + dt, self.grid.centres(offset, self.periodic), new, offset)
+        return new
 
-    def _reference_slopes(self, w: Array, centre: Array, stencil: slice, cells: slice) -> Array:
-        """Slopes with the depth rules of the kernel (surface reconstruction, depth limit)."""
+    def _reference_slopes(
+        self, w: Array, centre: Array, stencil: slice, cells: slice, data_w: Array | None = None
+    ) -> Array:
+        """Slopes with the depth rules of the kernel (surface reconstruction, depth limit).
+
+        ``data_w`` (default ``w``) are the values the slope stencils read."""
         model = self.model
-        data = w[:, stencil].copy()
+        data = (w if data_w is None else data_w)[:, stencil].copy()
         surface_rows = model.surface_aux if self.uses["surface"] else None
         if surface_rows is not None and model.depth_index is not None:
             data[model.depth_index] += centre[surface_rows[0], stencil]
@@ -317,7 +370,7 @@ class NessyahuTadmor(Scheme):
         depth = w[model.depth_index, cells]
         if surface_rows is not None:
             slopes[model.depth_index] -= self.grid.dx * centre[surface_rows[1], cells]
-        limit = self.kernels.DEPTH_SLOPE_LIMIT * depth
+        limit = DEPTH_SLOPE_LIMIT * depth
         slopes[model.depth_index] = np.clip(slopes[model.depth_index], -limit, limit)
         slopes[:, depth <= 0.0] = 0.0
         if model.momentum_index is not None:
