@@ -8,12 +8,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from test_cli import assert_one_line_error, cli
 
 import conslaw
 from conslaw.convergence import convergence_study
 from conslaw.errors import ConfigError, SchemeBreakdownError
 from conslaw.schemes.front_tracking import front_cell, margin_fit, rear_cell
-from tests.test_cli import assert_one_line_error, cli
 
 
 @pytest.fixture(scope="module")
