@@ -332,6 +332,11 @@ class FrontTrackingNT(NessyahuTadmor):
             face_depth = 0.5 * (depth[outer] + depth[inner])
             inside = min(dx, 2.0 * depth[outer] * dx / face_depth)
             position = left_edges[outer] + (inside if sign > 0 else dx - inside)
+            # Keep the margin in its cell under round-off (a body edge on a cell face).
+            if sign > 0:
+                position = min(position, left_edges[outer + 1])
+            else:
+                position = max(position, left_edges[outer])
             h, m = depth[outer], state.q[1, outer]
             velocity = m / h if h >= self.model.dry_depth() else 0.0
             margins[side] = Margin(float(position), float(velocity))
