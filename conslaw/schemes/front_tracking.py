@@ -61,8 +61,9 @@ BOUNDARY_CLEARANCE = GHOSTS
 STENCIL_REACH = 3
 
 
-class _NegativeDepthError(Exception):
-    """A step made a depth negative: the step pair is redone with half the time step."""
+class _RetryStepError(Exception):
+    """A step made a depth negative or the second step of a pair would break the CFL
+    condition: the step pair is redone with half the time step."""
 
 
 def front_cell(left_edges: Array, position: float) -> int:
@@ -105,7 +106,6 @@ def margin_fit(masses: Array, inner_length: float, dx: float) -> tuple[float, fl
 class MarginProfile:
     """What the step needs to know about one margin at the start of a step."""
 
-    cell: int
     sign: float  # +1 front margin, -1 rear margin
     margin: Margin
     slope: float  # S = |dh/dx| at the margin
@@ -366,9 +366,7 @@ class FrontTrackingNT(NessyahuTadmor):
             u = np.where(wet, momentum[cells[1:]] / np.where(wet, depth[cells[1:]], 1.0), 0.0)
             inner_velocity = float(u[0]) if wet[0] else margin.velocity
             gradient = float(u[1] - u[0]) / dx if wet.size == 2 and wet.all() else 0.0
-            profiles.append(
-                MarginProfile(int(k), sign, margin, slope, curvature, inner_velocity, gradient)
-            )
+            profiles.append(MarginProfile(sign, margin, slope, curvature, inner_velocity, gradient))
         return profiles
 
     def _margin_acceleration(self, p: MarginProfile) -> tuple[float, float]:
@@ -459,7 +457,7 @@ class FrontTrackingNT(NessyahuTadmor):
         if self.uses["correction"]:
             new = self.model.correct(new, self._aux[offset][0][:, GHOSTS : GHOSTS + x.size], dt)
         if np.any(new[0] < 0.0):
-            raise _NegativeDepthError
+            raise _RetryStepError
         return State(state.t + dt, x, new, offset, moved)
 
     def step(self, state: State, dt: float) -> State:
@@ -471,7 +469,7 @@ class FrontTrackingNT(NessyahuTadmor):
         self._check_step(state, dt)
         try:
             return self._raw_step(state, dt, 0)
-        except _NegativeDepthError:
+        except _RetryStepError:
             raise SchemeBreakdownError(
                 f"dt={dt:g} makes a depth negative; take a smaller step"
             ) from None
@@ -501,10 +499,10 @@ class FrontTrackingNT(NessyahuTadmor):
                 try:
                     middle = self._raw_step(state, dt, steps)
                     if dt > self.stable_dt(middle, cfl=0.4999999999999999):
-                        raise _NegativeDepthError
+                        raise _RetryStepError
                     end = self._raw_step(middle, dt, steps + 1)
                     break
-                except _NegativeDepthError:
+                except _RetryStepError:
                     dt *= 0.5
                     last = False
                     if dt < dt_floor:
