@@ -105,6 +105,36 @@ def max_speed(w, n, aux, params):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
+def source_step_limit(w, n, aux, params, cfl, dx):  # type: ignore[no-untyped-def]
+    """``sqrt(cfl dx / (2 a))``, ``a = max |s_m| / h`` over the wet real cells: over a step pair
+    from rest the source builds up the velocity ``2 a dt``, which must itself meet the CFL
+    condition (``2 a dt^2 / dx <= cfl``). inf without a source or a depth (see
+    ``NessyahuTadmor.source_step_limit``)."""
+    if not HAS_SOURCE or DEPTH < 0 or MOMENTUM < 0:
+        return np.inf
+    nv = w.shape[0]
+    state = np.empty(nv)
+    out = np.empty(nv)
+    coefficients = np.empty(aux.shape[0])
+    largest = 0.0
+    for i in range(NG, NG + n):
+        h = w[DEPTH, i]
+        if not h > 0.0:
+            continue
+        for v in range(nv):
+            state[v] = w[v, i]
+        for k in range(aux.shape[0]):
+            coefficients[k] = aux[k, i]
+        _source_point(state, coefficients, params, out)
+        acceleration = abs(out[MOMENTUM]) / h
+        if acceleration > largest:
+            largest = acceleration
+    if not largest > 0.0:
+        return np.inf
+    return np.sqrt(cfl * dx / (2.0 * largest))
+
+
+@njit(cache=True)
 def failure(code):  # type: ignore[no-untyped-def]
     """Status for a failed ``max_speed`` (its negative speed is the reason code)."""
     return STATUS_SPEED_NOT_FINITE if code == -2.0 else STATUS_INADMISSIBLE
@@ -368,13 +398,14 @@ def advance(  # type: ignore[no-untyped-def]
 ):
     """Advance ``w0`` (primary family) by pairs of steps towards ``t_end``.
 
-    Each pair uses one ``dt = cfl dx / a_max`` for both half steps, so the state is back on the
-    primary family after every pair; the last pair is shortened to land on ``t_end`` exactly. A
-    pair is redone with a smaller ``dt`` (``w0`` is untouched until the pair is accepted) if the
-    Courant number of its second half would reach 1/2, or if a depth would become negative
-    (with a depth variable the second half is written to ``w2`` and copied back when accepted).
-    With a resistance, a pair that starts and ends with every momentum exactly zero leaves the
-    state unchanged (static equilibrium under Coulomb friction).
+    Each pair uses one ``dt = cfl dx / a_max`` (at most ``source_step_limit``) for both half
+    steps, so the state is back on the primary family after every pair; the last pair is
+    shortened to land on ``t_end`` exactly. A pair is redone with a smaller ``dt`` (``w0`` is
+    untouched until the pair is accepted) if the Courant number of its second half would reach
+    1/2, or if a depth would become negative (with a depth variable the second half is written
+    to ``w2`` and copied back when accepted). With a resistance, a pair that starts and ends with
+    every momentum exactly zero leaves the state unchanged (static equilibrium under Coulomb
+    friction).
 
     Returns ``(t, pairs, status, family, cell, dt)``.
     """
@@ -390,6 +421,7 @@ def advance(  # type: ignore[no-untyped-def]
             return t, pairs, failure(speed), 0, bad, dt
         remaining = t_end - t
         dt = cfl * dx / speed if speed > 0.0 else remaining
+        dt = min(dt, source_step_limit(w0, n0, aux0, params, cfl, dx))
         last = False
         if 2.0 * dt >= remaining:
             dt = 0.5 * remaining

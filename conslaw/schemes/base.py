@@ -49,6 +49,12 @@ class Scheme(ABC):
 
     name: ClassVar[str]
     description: ClassVar[str]
+    #: Whether the injected reconstructor shapes the solution (False: one reconstructor is as
+    #: good as another, and the registry-wide property tests run the scheme with one only).
+    uses_reconstructor: ClassVar[bool] = True
+    #: Whether the scheme needs the material in one body with dry cells around it (it tracks
+    #: the body's margins); the property tests then draw such initial data.
+    needs_single_body: ClassVar[bool] = False
 
     def __init__(
         self,
