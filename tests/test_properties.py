@@ -347,7 +347,7 @@ def coulomb_slab_velocity(u0: float, t: float, zeta: float, delta: float) -> tup
     delta=st.floats(1.0, 60.0),
     epsilon=st.floats(0.01, 10.0),
     depth=st.floats(1e-3, 1e3),
-    u0=st.floats(-10.0, 10.0, allow_subnormal=False),
+    u0=st.just(0.0) | st.floats(1e-6, 10.0) | st.floats(-10.0, -1e-6),  # h u0 stays normal
     t_end=st.floats(0.0, 3.0),
     n=st.integers(8, 32),
 )

@@ -233,6 +233,65 @@ def resist(momentum, impulse):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
+def velocity_range(src, i, dt, aux_centre, params, state, coefficients, out):  # type: ignore[no-untyped-def]
+    """``(u - 2c - dt a, u + 2c + dt a)`` of padded cell i: its Riemann invariants (``c`` the
+    wave speed less ``|u|``), widened by the velocity a source and a resistance can add or remove
+    in one step (``a = (|s_m| + R) / h``)."""
+    nv = src.shape[0]
+    for v in range(nv):
+        state[v] = src[v, i]
+    for k in range(aux_centre.shape[0]):
+        coefficients[k] = aux_centre[k, i]
+    u = cell_velocity(src, i)
+    c = max(_max_speed_point(state, coefficients, params) - abs(u), 0.0)
+    h = src[DEPTH, i]
+    change = 0.0
+    if h > 0.0:
+        if HAS_SOURCE:
+            _source_point(state, coefficients, params, out)
+            change += abs(out[MOMENTUM]) / h
+        if HAS_RESISTANCE:
+            change += _resistance_point(state, coefficients, params) / h
+    return u - 2.0 * c - dt * change, u + 2.0 * c + dt * change
+
+
+@njit(cache=True)
+def bound_velocities(src, dst, n_dst, first, dt, aux_centre, params):  # type: ignore[no-untyped-def]
+    """Keep the velocity of every new wet cell ``k`` within the range of its sources: between
+    the smallest ``u - 2c`` and the largest ``u + 2c`` of the cells its update reads (``first + k
+    - 1`` to ``first + k + 2``), widened by what a source or resistance adds in one step.
+
+    In the exact solution the Riemann invariants ``u -+ 2c`` obey a maximum principle, so a
+    velocity outside this range is an artefact; it appears where the staggered average of a
+    draining cell is a small difference of large terms (the tail a sliding body leaves behind),
+    whose momentum and depth do not cancel alike: a tail of depth 3e-5 behind a body sliding
+    down an 89-degree chute at 0.4 got u = -1.9 (upslope). In wet cells the range is wider than
+    the scheme's own deviation from the invariant region and the bound does not act."""
+    nv = src.shape[0]
+    state = np.empty(nv)
+    out = np.empty(nv)
+    coefficients = np.empty(aux_centre.shape[0])
+    count = n_dst + 3
+    low = np.empty(count)
+    high = np.empty(count)
+    for j in range(count):
+        low[j], high[j] = velocity_range(
+            src, first - 1 + j, dt, aux_centre, params, state, coefficients, out
+        )
+    for k in range(n_dst):
+        h = dst[DEPTH, NG + k]
+        if not (h >= DRY_DEPTH and h > 0.0):
+            continue
+        lo = min(min(low[k], low[k + 1]), min(low[k + 2], low[k + 3]))
+        hi = max(max(high[k], high[k + 1]), max(high[k + 2], high[k + 3]))
+        u = dst[MOMENTUM, NG + k] / h
+        if u < lo:
+            dst[MOMENTUM, NG + k] = lo * h
+        elif u > hi:
+            dst[MOMENTUM, NG + k] = hi * h
+
+
+@njit(cache=True)
 def nt_step(  # type: ignore[no-untyped-def]
     src,
     dst,
@@ -366,6 +425,8 @@ def nt_step(  # type: ignore[no-untyped-def]
             _correct_point(state, coefficients, params, dt)
             for v in range(nv):
                 dst[v, NG + k] = state[v]
+    if DEPTH >= 0 and MOMENTUM >= 0:
+        bound_velocities(src, dst, n_dst, first, dt, aux_centre, params)
 
 
 @njit(cache=True)

@@ -37,7 +37,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from conslaw.errors import ConfigError, SchemeBreakdownError
+from conslaw.errors import ConfigError, InadmissibleStateError, SchemeBreakdownError
 from conslaw.grid import Grid
 from conslaw.model import Model
 from conslaw.reconstruct import Reconstructor
@@ -449,7 +449,13 @@ class FrontTrackingNT(NessyahuTadmor):
     def _raw_step(self, state: State, dt: float, steps: int) -> State:
         _, staggered = self._family(state)
         profiles = self._profiles(state)
-        moved = self._move_margins(profiles, dt)
+        try:
+            moved = self._move_margins(profiles, dt)
+        except ValueError as error:  # a Margin refuses a non-finite position or velocity
+            raise InadmissibleStateError(
+                f"a margin is not finite (overflow) at t={state.t + dt:.6g}, step {steps + 1}: "
+                f"{error}; check the magnitudes of the parameters"
+            ) from None
         hooks = MarginCellHooks(profiles, moved, self.grid.dx, self.model.dry_depth())
         new = self._numpy_update(state.q, staggered, dt, hooks)
         offset = 0.0 if staggered else 0.5
@@ -503,6 +509,7 @@ class FrontTrackingNT(NessyahuTadmor):
                     break
                 try:
                     middle = self._raw_step(state, dt, steps)
+                    self.check_admissible(middle, steps + 1)
                     if dt > self.stable_dt(middle, cfl=0.4999999999999999):
                         raise _RetryStepError
                     end = self._raw_step(middle, dt, steps + 1)

@@ -19,7 +19,13 @@ from conslaw.kernels.nt_template import DEPTH_SLOPE_LIMIT
 from conslaw.model import Model
 from conslaw.reconstruct import Reconstructor
 from conslaw.reconstruct.base import STENCIL_HALF_WIDTH
-from conslaw.schemes.base import AdvanceResult, BoundarySpec, ProgressCallback, Scheme
+from conslaw.schemes.base import (
+    DT_FLOOR_RELATIVE,
+    AdvanceResult,
+    BoundarySpec,
+    ProgressCallback,
+    Scheme,
+)
 from conslaw.state import State
 
 Array = NDArray[np.float64]
@@ -28,8 +34,6 @@ Array = NDArray[np.float64]
 GHOSTS = 1 + STENCIL_HALF_WIDTH
 #: Cell updates per call of the compiled kernel between progress reports (about 0.1-0.3 s).
 CELL_UPDATES_PER_CALL = 4_000_000
-#: Smallest accepted time step relative to dx (below it the run stops instead of hanging).
-DT_FLOOR_RELATIVE = 1e-14
 
 
 def _resist(momentum: Array, impulse: Array) -> Array:
@@ -386,7 +390,35 @@ class NessyahuTadmor(Scheme):
         if self.uses["correction"]:
             aux_dst = self._aux[0.0 if staggered else 0.5][0][:, GHOSTS : GHOSTS + n_dst]
             new = model.correct(new, aux_dst, dt)
+        if model.depth_index is not None and momentum is not None:
+            self._bound_velocities(w, centre, first, dt, new)
         return new
+
+    def _bound_velocities(self, w: Array, centre: Array, first: int, dt: float, new: Array) -> None:
+        """numpy version of the kernel's ``bound_velocities``: the velocity of every new wet cell
+        stays between the smallest ``u - 2c`` and the largest ``u + 2c`` of the four cells its
+        update reads, widened by ``dt (|s_m| + R) / h``."""
+        model = self.model
+        d, m = model.depth_index, model.momentum_index
+        assert d is not None and m is not None
+        n_dst = new.shape[1]
+        cells = slice(first - 1, first + n_dst + 2)
+        q, aux = w[:, cells], centre[:, cells]
+        h = q[d]
+        wet = (h >= model.dry_depth()) & (h > 0.0)
+        u = np.where(wet, q[m] / np.where(wet, h, 1.0), 0.0)
+        c = np.maximum(model.max_wave_speed(q, aux) - np.abs(u), 0.0)
+        rate = np.abs(model.source(q, aux)[m]) + model.resistance(q, aux)
+        change = np.where(h > 0.0, rate / np.where(h > 0.0, h, 1.0), 0.0)
+        low, high = u - 2.0 * c - dt * change, u + 2.0 * c + dt * change
+        lo = np.minimum(np.minimum(low[:-3], low[1:-2]), np.minimum(low[2:-1], low[3:]))
+        hi = np.maximum(np.maximum(high[:-3], high[1:-2]), np.maximum(high[2:-1], high[3:]))
+        h_new = new[d]
+        wet_new = (h_new >= model.dry_depth()) & (h_new > 0.0)
+        u_new = np.where(wet_new, new[m] / np.where(wet_new, h_new, 1.0), 0.0)
+        new[m] = np.where(
+            wet_new & (u_new < lo), lo * h_new, np.where(wet_new & (u_new > hi), hi * h_new, new[m])
+        )
 
     def _reference_slopes(
         self, w: Array, centre: Array, stencil: slice, cells: slice, data_w: Array | None = None
