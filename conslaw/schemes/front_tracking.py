@@ -63,6 +63,9 @@ MAX_RETRIES = 60
 BOUNDARY_CLEARANCE = GHOSTS
 #: Cells from the margin cell outward whose stencil values are the body's continuation.
 STENCIL_REACH = 3
+#: An initial edge cell holding at least 1/STEP_RATIO of its inner neighbour's depth is a step,
+#: not a margin (a linear edge on a cell face holds 1/3, a flat body cut off at a face 1/1).
+STEP_RATIO = 2.0
 
 
 class _RetryStepError(Exception):
@@ -367,6 +370,15 @@ class FrontTrackingNT(NessyahuTadmor):
                 raise ConfigError(
                     f"front_tracking: the {side} margin starts within {BOUNDARY_CLEARANCE} cells "
                     "of the boundary; enlarge the domain"
+                )
+            if STEP_RATIO * depth[outer] >= depth[inner]:
+                raise ConfigError(
+                    f"front_tracking: the {side} margin starts as a step (edge cell at "
+                    f"x={state.x[outer]:.6g} with h={depth[outer]:.6g}, at least 1/{STEP_RATIO:g} "
+                    f"of its neighbour's h={depth[inner]:.6g}); eq. (19) cannot start from a step "
+                    "(the margin's acceleration is unbounded there and a dam-break front "
+                    "overshoots for good): let the depth fall to zero over the edge cells, or "
+                    "run without front tracking"
                 )
             face_depth = 0.5 * (depth[outer] + depth[inner])
             inside = min(dx, 2.0 * depth[outer] * dx / face_depth)
