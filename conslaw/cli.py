@@ -90,11 +90,27 @@ class _ProgressBar:
     def close(self) -> None:
         if self.enabled:
             sys.stdout.write("\n")
+            self.enabled = False
+
+
+class _SignalInterrupt(KeyboardInterrupt):
+    """SIGTERM (or SIGHUP) turned into a KeyboardInterrupt, so a run stops as on Ctrl-C."""
+
+    def __init__(self, signal_number: int) -> None:
+        super().__init__(signal_number)
+        self.signal_number = signal_number
+
+
+def _raise_interrupt(signal_number: int, frame: Any) -> None:
+    raise _SignalInterrupt(signal_number)
 
 
 def _command_run(args: argparse.Namespace) -> int:
+    import signal
+
     from conslaw.config import load_scene
-    from conslaw.io import check_output_dir, write_run
+    from conslaw.errors import ConslawError, RunInterrupted
+    from conslaw.io import RunWriter, check_output_dir
     from conslaw.simulation import simulate
 
     scene = load_scene(args.scene, _overrides(args.set))
@@ -104,12 +120,32 @@ def _command_run(args: argparse.Namespace) -> int:
         scene = replace(scene, plot=False)
     out = Path(args.out) if args.out else Path("conslaw-output") / scene.name
     check_output_dir(out)
+    writer = RunWriter(out, scene)
     bar = _ProgressBar(scene.t_end)
+    signals = [s for s in ("SIGTERM", "SIGHUP") if hasattr(signal, s)]
+    previous = {name: signal.signal(getattr(signal, name), _raise_interrupt) for name in signals}
     try:
-        result = simulate(scene, progress=bar)
+        result = simulate(scene, progress=bar, on_output=writer)
+    except RunInterrupted as interrupted:
+        bar.close()
+        if writer.last_time != interrupted.last_output:  # the signal came as it finished one
+            interrupted = RunInterrupted(
+                interrupted.t, interrupted.steps, writer.last_time, interrupted.signal_number
+            )
+        where = f" in {out}" if writer.last_time is not None else ""
+        sys.stderr.write(f"conslaw: {interrupted}{where}\n")
+        return 128 + interrupted.signal_number
+    except ConslawError as failure:
+        if writer.last_time is None:
+            raise
+        bar.close()
+        kept = f"outputs up to t={writer.last_time:.6g} are complete in {out}"
+        raise type(failure)(f"{failure}; {kept}") from None
     finally:
         bar.close()
-    files = write_run(result, out)
+        for name, handler in previous.items():
+            signal.signal(getattr(signal, name), handler)
+    files = writer.finish(result)
     print(
         f"{scene.name}: {scene.model}, {scene.scheme}, {scene.reconstructor}, "
         f"N={scene.n_cells}, t={result.final.t:g}, {result.steps} steps, "
