@@ -1,4 +1,4 @@
-"""The ``conslaw`` command: ``list``, ``show``, ``run``.
+"""The ``conslaw`` command: ``list``, ``show``, ``run``, ``convergence``, ``reproduce``.
 
 Errors in the input become one line on stderr and exit code 2, without a traceback.
 """
@@ -196,6 +196,20 @@ def _command_convergence(args: argparse.Namespace) -> int:
     return 0
 
 
+def _command_reproduce(args: argparse.Namespace) -> int:
+    from conslaw.io import check_output_dir
+    from conslaw.reproduce import reproduce_paper
+
+    out = Path(args.out) if args.out else Path("conslaw-output") / "paper"
+    check_output_dir(out)
+    started = time.perf_counter()
+    files = reproduce_paper(out)
+    for path in files:
+        print(f"wrote {path}")
+    print(f"reproduce {args.target}: {time.perf_counter() - started:.1f} s")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser (exposed for the documentation)."""
     parser = _Parser(prog="conslaw", description="Hyperbolic conservation laws in 1D.")
@@ -226,6 +240,13 @@ def build_parser() -> argparse.ArgumentParser:
     study.add_argument("--repeats", type=int, default=3, help="solves per N (median reported)")
     study.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     study.add_argument("--out", help="output folder (default conslaw-output/convergence)")
+    reproduce = commands.add_parser(
+        "reproduce", help="regenerate a paper's figures and a report of the errors"
+    )
+    reproduce.add_argument(
+        "target", choices=["paper"], help="paper: Tai et al. (2001), Figs. 3, 4 and 5"
+    )
+    reproduce.add_argument("--out", help="output folder (default conslaw-output/paper)")
     return parser
 
 
@@ -238,6 +259,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         "show": _command_show,
         "run": _command_run,
         "convergence": _command_convergence,
+        "reproduce": _command_reproduce,
     }
     try:
         return handlers[args.command](args)

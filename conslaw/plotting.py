@@ -30,6 +30,8 @@ def _display_rows(model: Any, q: Any) -> list[tuple[str, Any]]:
 
 #: Output times from which ``conslaw run`` also draws the x–t diagram (``xt.png``).
 XT_MIN_OUTPUTS = 10
+#: Grids up to this many cells are drawn with open circles (one per cell), finer ones with dots.
+COARSE_GRID = 200
 #: Most profiles drawn in one figure (evenly chosen among the output times beyond that).
 MAX_PROFILES = 6
 
@@ -59,10 +61,13 @@ def profiles_figure(result: RunResult, times: Sequence[float] | None = None) -> 
     shown = select_states(result, times)
     colours = plt.cm.viridis(np.linspace(0.0, 0.85, len(shown)))
     fine = np.linspace(result.grid.x_min, result.grid.x_max, 4001)
+    # Open circles as in the paper where the cells can be told apart, dots on fine grids.
+    coarse = result.grid.n_cells <= COARSE_GRID
+    marker = {"ms": 4.5, "mfc": "none", "mew": 0.9} if coarse else {"ms": 2.5}
     for state, colour in zip(shown, colours, strict=True):
         label = f"{result.scene.scheme}, t={state.t:g}"
         for axis, (name, values) in zip(axes[:, 0], _display_rows(model, state.q), strict=True):
-            axis.plot(state.x, values, "o", ms=2.5, color=colour, label=label)
+            axis.plot(state.x, values, "o", color=colour, label=label, **marker)
             axis.set_ylabel(name)
         if result.exact_solution is not None:
             exact = result.exact_solution.point_values(fine, state.t)
