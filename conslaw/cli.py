@@ -227,7 +227,7 @@ def build_parser() -> argparse.ArgumentParser:
         )
         if name == "run":
             sub.add_argument("--out", help="output folder (default conslaw-output/SCENE)")
-            sub.add_argument("--no-plot", action="store_true", help="do not write the PNG")
+            sub.add_argument("--no-plot", action="store_true", help="do not draw the figures (PNG)")
     study = commands.add_parser(
         "convergence", help="errors, observed orders and run times over a list of N"
     )

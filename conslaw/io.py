@@ -110,10 +110,10 @@ def prepare_output_dir(folder: Path) -> Path:
     return folder
 
 
-def write_npz(path: Path, **arrays: Any) -> Path:
-    """Atomic ``numpy.savez_compressed``."""
+def write_npz(path: Path, compressed: bool = True, **arrays: Any) -> Path:
+    """Atomic ``numpy.savez_compressed`` (``numpy.savez`` with ``compressed=False``)."""
     buffer = io.BytesIO()
-    np.savez_compressed(buffer, **arrays)
+    (np.savez_compressed if compressed else np.savez)(buffer, **arrays)
     return atomic_write_bytes(path, buffer.getvalue())
 
 
@@ -181,8 +181,9 @@ def output_field_data(result: RunResult, index: int) -> dict[str, float]:
     return data
 
 
-def write_states(path: Path, result: RunResult) -> Path:
-    """``states.npz`` of the outputs so far.
+def write_states(path: Path, result: RunResult, compressed: bool = True) -> Path:
+    """``states.npz`` of the outputs so far (``compressed=False``: stored without compression,
+    as during a run, where it is rewritten at every output time).
 
     Keys: ``t`` (n_out,), ``x`` (n,), ``edges`` (n + 1,), ``q`` (n_out, n_vars, n),
     ``q_exact`` (exact cell averages, NaN where unknown), ``variables``; with front tracking also
@@ -197,6 +198,7 @@ def write_states(path: Path, result: RunResult) -> Path:
     )
     return write_npz(
         path,
+        compressed,
         t=np.array([s.t for s in result.states]),
         x=result.grid.centres(),
         edges=result.grid.edges,
@@ -420,10 +422,15 @@ class RunWriter:
             table = fields_csv(state.t, state.x, fields)
             self._wrote(atomic_write_bytes(self.folder / f"{stem}.csv", table))
 
-    def history(self, result: RunResult) -> None:
-        """``states.npz`` (npz) and ``margins.csv`` (csv, front tracking) of the outputs so far."""
+    def history(self, result: RunResult, final: bool = False) -> None:
+        """``states.npz`` (npz) and ``margins.csv`` (csv, front tracking) of the outputs so far.
+
+        ``states.npz`` holds every output so far, so it is rewritten at every output time:
+        uncompressed during the run (a copy at memory speed; the cost still grows with the
+        number of outputs times the grid, so for very many output times of a large grid prefer
+        xdmf or vtu, whose cost per output is fixed), compressed once at the end (``final``)."""
         if "npz" in self.formats:
-            self._wrote(write_states(self.folder / "states.npz", result))
+            self._wrote(write_states(self.folder / "states.npz", result, compressed=final))
         if "csv" in self.formats and result.margins is not None:
             self._wrote(write_margins_csv(self.folder / "margins.csv", result.margins))
 
@@ -433,6 +440,8 @@ class RunWriter:
         run, other formats; other files are not touched); returns every file written."""
         if not self._files:
             return []
+        with signals_held():
+            self.history(result, final=True)
         if self.scene.plot:
             for path in write_figures(result, self.folder):
                 self._wrote(path)
@@ -463,5 +472,4 @@ def write_run(result: RunResult, folder: Path) -> list[Path]:
     writer = RunWriter(folder, result.scene)
     for index in range(len(result.states)):
         writer.output(result, index)
-    writer.history(result)
     return writer.finish(result)
