@@ -145,7 +145,14 @@ def _command_run(args: argparse.Namespace) -> int:
         bar.close()
         for name, handler in previous.items():
             signal.signal(getattr(signal, name), handler)
-    files = writer.finish(result)
+    try:
+        files = writer.finish(result)
+    except KeyboardInterrupt:
+        sys.stderr.write(
+            f"conslaw: interrupted while drawing the figures after the run reached "
+            f"t={result.final.t:g} ({result.steps} steps); every output is complete in {out}\n"
+        )
+        return 130
     print(
         f"{scene.name}: {scene.model}, {scene.scheme}, {scene.reconstructor}, "
         f"N={scene.n_cells}, t={result.final.t:g}, {result.steps} steps, "
