@@ -495,6 +495,14 @@ class FrontTrackingNT(NessyahuTadmor):
         limit = (self.cfl if cfl is None else cfl) * self.grid.dx / largest
         return min(dt, limit)
 
+    def _hooks_at(self, state: State) -> SubcellHooks:
+        """The margin-cell reconstruction of ``state`` (margins held where they are)."""
+        if state.margins is None:
+            return SubcellHooks()
+        return MarginCellHooks(
+            self._profiles(state), state.margins, self.grid.dx, self.model.dry_depth()
+        )
+
     def _raw_step(self, state: State, dt: float, steps: int) -> State:
         _, staggered = self._family(state)
         profiles = self._profiles(state)
