@@ -1,4 +1,4 @@
-"""The ``conslaw`` command: ``list``, ``show``, ``run``.
+"""The ``conslaw`` command: ``list``, ``show``, ``run``, ``convergence``, ``compare``.
 
 Errors in the input become one line on stderr and exit code 2, without a traceback.
 """
@@ -111,7 +111,7 @@ def _command_run(args: argparse.Namespace) -> int:
         bar.close()
     files = write_run(result, out)
     print(
-        f"{scene.name}: {scene.model}, {scene.scheme}, {scene.reconstructor}, "
+        f"{scene.name}: {scene.model}, {scene.scheme}, {scene.reconstructor_label}, "
         f"N={scene.n_cells}, t={result.final.t:g}, {result.steps} steps, "
         f"solve {result.solve_seconds:.3f} s (compile or cache load {result.compile_seconds:.2f} s)"
     )
@@ -160,6 +160,26 @@ def _command_convergence(args: argparse.Namespace) -> int:
     return 0
 
 
+def _command_compare(args: argparse.Namespace) -> int:
+    from conslaw.comparison import compare, write_comparison
+    from conslaw.errors import ConfigError
+    from conslaw.io import prepare_output_dir
+
+    schemes = _names(args.scheme) or []
+    if not schemes:
+        raise ConfigError(
+            "--scheme: expected comma-separated schemes, e.g. nessyahu-tadmor,lagrangian"
+        )
+    out = Path(args.out) if args.out else Path("conslaw-output") / "compare"
+    prepare_output_dir(out)
+    comparison = compare(args.scene, schemes, _overrides(args.set))
+    print(comparison.table())
+    print(comparison.notes())
+    for path in write_comparison(comparison, out):
+        print(f"wrote {path}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser (exposed for the documentation)."""
     parser = _Parser(prog="conslaw", description="Hyperbolic conservation laws in 1D.")
@@ -190,6 +210,18 @@ def build_parser() -> argparse.ArgumentParser:
     study.add_argument("--repeats", type=int, default=3, help="solves per N (median reported)")
     study.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     study.add_argument("--out", help="output folder (default conslaw-output/convergence)")
+    versus = commands.add_parser(
+        "compare", help="one scene with several schemes: one figure, a table of errors and times"
+    )
+    versus.add_argument("scene", help="built-in scene name or path to a .toml file")
+    versus.add_argument(
+        "--scheme",
+        required=True,
+        help="comma-separated schemes, options after a colon, e.g. "
+        "nessyahu-tadmor,lagrangian,lagrangian:viscosity=0.02",
+    )
+    versus.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+    versus.add_argument("--out", help="output folder (default conslaw-output/compare)")
     return parser
 
 
@@ -202,6 +234,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         "show": _command_show,
         "run": _command_run,
         "convergence": _command_convergence,
+        "compare": _command_compare,
     }
     try:
         return handlers[args.command](args)

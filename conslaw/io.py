@@ -17,6 +17,7 @@ import numpy as np
 
 from conslaw import tomlwrite
 from conslaw.errors import ConfigError
+from conslaw.state import node_arrays
 
 if TYPE_CHECKING:
     from conslaw.simulation import RunResult
@@ -101,7 +102,9 @@ def write_run(result: RunResult, folder: Path) -> list[Path]:
     ``edges``, and ``q_exact`` (exact cell averages, NaN where unknown); with front tracking also
     ``margins`` (rows ``t, x_rear, u_rear, x_front, u_front`` after every step, NaN for a margin
     that does not exist), which is also written as ``margins.csv`` and plotted in
-    ``margins.png``.
+    ``margins.png``; with the Lagrangian scheme also its own mesh at the output times: ``nodes``
+    and ``node_velocities`` (n_out, n_elements + 1) and ``element_depths`` (n_out, n_elements)
+    (``q`` is then the conservative projection of the elements onto the grid).
     """
     folder = prepare_output_dir(folder)
     written = []
@@ -123,6 +126,7 @@ def write_run(result: RunResult, folder: Path) -> list[Path]:
                 q_exact=exact,
                 variables=np.array(result.model.variables),
                 **({} if result.margins is None else {"margins": result.margins}),
+                **node_arrays(result.states),
             )
         )
     if result.margins is not None:

@@ -14,7 +14,7 @@ from numpy.typing import NDArray
 from conslaw import registry
 from conslaw.analysis import ErrorNorms, error_norms, total_mass
 from conslaw.config import Scene, load_scene
-from conslaw.errors import ConfigError
+from conslaw.errors import ConfigError, SchemeBreakdownError
 from conslaw.exact import ExactSolution, Unavailable
 from conslaw.grid import Grid
 from conslaw.model import Model
@@ -94,14 +94,18 @@ def _build(
 
         scheme_class = FrontTrackingNT
     scheme = scheme_class(
-        model, registry.reconstructors.get(scene.reconstructor), grid, left, right, scene.cfl
+        model,
+        registry.reconstructors.get(scene.reconstructor),
+        grid,
+        left,
+        right,
+        scene.cfl,
+        **scene.scheme_options,
     )
     q0 = scene.initial.cell_averages(grid, model)
     if not np.all(np.isfinite(q0)):
         raise ConfigError("initial: the initial data are not finite (NaN or inf)")
-    initial = State(0.0, grid.centres(), q0, 0.0)
-    if scene.front_tracking:
-        initial = scheme.initial_margins(initial)  # type: ignore[attr-defined]
+    initial = scheme.initial_state(State(0.0, grid.centres(), q0, 0.0), scene.initial)
     exact, note = exact_solution_for(scene, model, grid)
     return model, grid, scheme, initial, exact, note
 
@@ -153,7 +157,11 @@ def simulate(scene: Scene, progress: ProgressCallback | None = None) -> RunResul
 
     for t_out in scene.output_times:
         if t_out > state.t:
-            advanced = scheme.advance(state, t_out, report)
+            try:
+                advanced = scheme.advance(state, t_out, report)
+            except SchemeBreakdownError as error:
+                error.completed_states = list(states)
+                raise
             state = advanced.state
             steps += advanced.steps
             if advanced.margins is not None:
