@@ -52,8 +52,7 @@ KEY_HELP: dict[str, str] = {
     "pressure; see Scheme options below)",
     "reconstructor": "slope reconstruction (nessyahu-tadmor): none, minmod, superbee, vanleer, "
     "mc, weno3, weno5",
-    "cfl": "target Courant number, 0 < cfl < 0.5 (paper eq. 17; lagrangian: its time-step "
-    "factor)",
+    "cfl": "target Courant number, 0 < cfl < 0.5 (paper eq. 17; lagrangian: its time-step factor)",
     "front_tracking": "track the margins of the body (NOC-FT, nessyahu-tadmor, models with depth)",
     "n_cells": "number of cells, integer >= 4",
     "x_min": "left end of the domain",

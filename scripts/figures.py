@@ -3,6 +3,8 @@
     python scripts/figures.py
 
 Each scene is run with its own settings; its PNGs are copied to docs/figures/<scene>-<name>.png.
+The Fig. 3-style comparison of NT and the Lagrangian scheme is written as
+docs/figures/compare-sh-runout-shock.{png,md} (conslaw.comparison.runout_comparison).
 """
 
 from __future__ import annotations
@@ -12,6 +14,7 @@ import tempfile
 from pathlib import Path
 
 import conslaw
+from conslaw.comparison import runout_comparison
 
 ROOT = Path(__file__).resolve().parents[1]
 #: (figure prefix, scene, overrides)
@@ -37,6 +40,8 @@ def main() -> None:
                     destination = target / f"{prefix}-{path.name}"
                     shutil.copyfile(path, destination)
                     print(f"wrote {destination}")
+    for path in runout_comparison(target):
+        print(f"wrote {path}")
 
 
 if __name__ == "__main__":

@@ -39,6 +39,7 @@ from numpy.typing import NDArray
 
 from conslaw.errors import ConfigError, SchemeBreakdownError
 from conslaw.grid import Grid
+from conslaw.initial import InitialCondition
 from conslaw.model import Model
 from conslaw.reconstruct import Reconstructor
 from conslaw.schemes.base import AdvanceResult, BoundarySpec, ProgressCallback
@@ -292,7 +293,7 @@ class FrontTrackingNT(NessyahuTadmor):
             )
 
     # ------------------------------------------------------------------ margins
-    def initial_state(self, state: State, initial: Any = None) -> State:
+    def initial_state(self, state: State, initial: InitialCondition | None = None) -> State:
         """``state`` with its margins (:meth:`initial_margins`)."""
         return state if state.margins is not None else self.initial_margins(state)
 

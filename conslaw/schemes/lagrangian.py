@@ -230,6 +230,9 @@ class LagrangianScheme(Scheme):
         self._momentum = model.momentum_index
         self._depth = model.depth_index
         self._start_depth: float | None = None
+        # Steps of earlier advance() calls of this run, so that a breakdown names the step of
+        # the run, not of the output interval.
+        self._steps_before = 0
 
     # ------------------------------------------------------------------ set-up
     def _ends(self, touches: tuple[bool, bool]) -> tuple[str, str]:
@@ -318,6 +321,7 @@ class LagrangianScheme(Scheme):
         velocities[0], velocities[-1] = momentum[0] / depth[0], momentum[-1] / depth[-1]
         self._hold_walls(velocities, ends)
         self._start_depth = float(depth.max())
+        self._steps_before = 0
         return self._state(state.t, LagrangianNodes(positions, velocities, volumes, ends))
 
     # ------------------------------------------------------------------ pieces
@@ -512,14 +516,19 @@ class LagrangianScheme(Scheme):
                     f"the time step {dt:.3g} fell below {DT_FLOOR_RELATIVE:g} of the initial "
                     "element length",
                     t,
-                    steps,
+                    self._steps_before + steps,
                     self._state(t, mesh.frozen()),
                 )
             previous = _Mesh(mesh.x, mesh.u, mesh.volumes, mesh.ends)
             try:
                 self._step(mesh, dt)
             except _MeshBrokenError as why:
-                self._breakdown(str(why), t + dt, steps + 1, self._state(t, previous.frozen()))
+                self._breakdown(
+                    str(why),
+                    t + dt,
+                    self._steps_before + steps + 1,
+                    self._state(t, previous.frozen()),
+                )
             t = t_end if last else t + dt
             steps += 1
             if track:
@@ -529,6 +538,7 @@ class LagrangianScheme(Scheme):
         if progress is not None:
             progress(t, steps)
         margins = np.array(history, dtype=np.float64) if track else None
+        self._steps_before += steps
         return AdvanceResult(self._state(t, mesh.frozen()), steps, margins)
 
     def _margin_row(self, t: float, mesh: _Mesh) -> tuple[float, ...]:
