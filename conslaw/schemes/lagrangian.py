@@ -96,10 +96,11 @@ def _check_viscosity(value: Any, label: str) -> float:
     return mu
 
 
-def _wet(depth: Array) -> NDArray[np.intp]:
-    """Indices of the wet cells: depth above the round-off of the largest (cell averages of a
-    body that ends on a cell face leave ~1e-30 in the next cell)."""
-    largest = float(np.max(depth, initial=0.0))
+def _wet(depth: Array, largest: float | None = None) -> NDArray[np.intp]:
+    """Indices of the wet cells: depth above the round-off of the largest depth of the body
+    (default: of ``depth``); cell averages of a body that ends on a cell face leave ~1e-30 in
+    the next cell."""
+    largest = float(np.max(depth, initial=0.0)) if largest is None else largest
     return np.flatnonzero(depth > ROUND_OFF * largest)
 
 
@@ -165,9 +166,9 @@ class LagrangianScheme(Scheme):
     """Lagrangian moving grid of Savage & Hutter (1989): see the module docstring.
 
     Needs a depth-averaged model (``q = (h, hu)``) without a well-balanced bed source; refuses
-    any other at construction. The reconstructor is not used (the elements are piecewise
-    constant). A body touching a boundary needs a wall (the end node stays there) or an outflow
-    (open end, no depth gradient) on that side; a free margin reaching a boundary stops the run.
+    any other at construction. The reconstructor is not used. A body touching a boundary needs
+    a wall (the end node stays there) or an outflow (open end, no depth gradient) on that side;
+    a free margin reaching a boundary stops the run.
 
     Parameters
     ----------
@@ -176,6 +177,10 @@ class LagrangianScheme(Scheme):
         step (module docstring).
     viscosity : float
         The artificial viscosity ``mu >= 0`` (scene: ``[scheme_options] viscosity``).
+    pressure : {"gradient", "flux"}
+        The pressure term at the interior nodes: ``beta (h_i - h_{i-1}) / (xbar_i - xbar_{i-1})``
+        (reference §4, the default) or the difference of ``beta h^2 / 2`` over the node's
+        lumped mass (conservative in the mass coordinate).
     """
 
     name = "lagrangian"
@@ -264,15 +269,16 @@ class LagrangianScheme(Scheme):
         return int(wet[0]), int(wet[-1])
 
     def _locate_margin(
-        self, initial: InitialCondition, low: float, high: float, front: bool
+        self, initial: InitialCondition, low: float, high: float, front: bool, largest: float
     ) -> float:
         """The end of the material inside ``[low, high]`` (its outermost wet cell), found by
-        repeated exact cell averages of the initial condition on 4 sub-cells."""
+        repeated exact cell averages of the initial condition on 4 sub-cells (``largest``: the
+        body's largest depth, the scale of the round-off)."""
         for _ in range(MARGIN_SEARCH_STEPS):
             if not high - low > 4.0 * np.spacing(max(abs(low), abs(high))):
                 break
             depth = initial.cell_averages(Grid(low, high, 4), self.model)[self._depth]
-            wet = _wet(depth)
+            wet = _wet(depth, largest)
             if wet.size == 0:
                 break
             k = int(wet[-1] if front else wet[0])
@@ -302,10 +308,11 @@ class LagrangianScheme(Scheme):
             positions = edges[first : last + 2].copy()
             depth, momentum = state.q[d, first : last + 1], state.q[m, first : last + 1]
         else:
+            largest = float(np.max(state.q[d]))
             if ends[0] == FREE:
-                start = self._locate_margin(initial, start, start + dx, front=False)
+                start = self._locate_margin(initial, start, start + dx, False, largest)
             if ends[1] == FREE:
-                stop = self._locate_margin(initial, stop - dx, stop, front=True)
+                stop = self._locate_margin(initial, stop - dx, stop, True, largest)
             elements = Grid(start, stop, self.grid.n_cells)
             averages = initial.cell_averages(elements, self.model)
             positions = elements.edges
