@@ -163,7 +163,7 @@ def _command_convergence(args: argparse.Namespace) -> int:
 def _command_compare(args: argparse.Namespace) -> int:
     from conslaw.comparison import compare, write_comparison
     from conslaw.errors import ConfigError
-    from conslaw.io import prepare_output_dir
+    from conslaw.io import check_output_dir
 
     schemes = _names(args.scheme) or []
     if not schemes:
@@ -171,7 +171,7 @@ def _command_compare(args: argparse.Namespace) -> int:
             "--scheme: expected comma-separated schemes, e.g. nessyahu-tadmor,lagrangian"
         )
     out = Path(args.out) if args.out else Path("conslaw-output") / "compare"
-    prepare_output_dir(out)
+    check_output_dir(out)
     comparison = compare(args.scene, schemes, _overrides(args.set))
     print(comparison.table())
     print(comparison.notes())

@@ -288,6 +288,13 @@ def test_compare_writes_one_figure_and_a_table(tmp_path: Path) -> None:
     assert "exact cell averages" in (tmp_path / "compare-sh-similarity-lagrangian.md").read_text()
 
 
+def test_compare_bad_input_is_one_line_and_writes_nothing(tmp_path: Path) -> None:
+    out = tmp_path / "compare"
+    process = cli("compare", "sh-similarity-lagrangian", "--scheme", "lagrangen", "--out", str(out))
+    assert_one_line_error(process, "unknown scheme 'lagrangen'", "did you mean 'lagrangian'")
+    assert not out.exists()
+
+
 def test_compare_reports_a_breakdown_and_keeps_the_states() -> None:
     """The Lagrangian scheme breaks down on sh-similarity's thin layer after t = 2; the comparison
     goes on, its row says where, and it keeps the output at t = 1 and the last good state."""
