@@ -1,4 +1,5 @@
-"""The ``conslaw`` command: ``list``, ``show``, ``run``, ``convergence``, ``reproduce``.
+"""The ``conslaw`` command: ``list``, ``show``, ``run``, ``convergence``, ``compare``,
+``reproduce``.
 
 Errors in the input become one line on stderr and exit code 2, without a traceback.
 """
@@ -154,7 +155,7 @@ def _command_run(args: argparse.Namespace) -> int:
         )
         return 130
     print(
-        f"{scene.name}: {scene.model}, {scene.scheme}, {scene.reconstructor}, "
+        f"{scene.name}: {scene.model}, {scene.scheme}, {scene.reconstructor_label}, "
         f"N={scene.n_cells}, t={result.final.t:g}, {result.steps} steps, "
         f"solve {result.solve_seconds:.3f} s (compile or cache load {result.compile_seconds:.2f} s)"
     )
@@ -217,6 +218,26 @@ def _command_reproduce(args: argparse.Namespace) -> int:
     return 0
 
 
+def _command_compare(args: argparse.Namespace) -> int:
+    from conslaw.comparison import compare, write_comparison
+    from conslaw.errors import ConfigError
+    from conslaw.io import check_output_dir
+
+    schemes = _names(args.scheme) or []
+    if not schemes:
+        raise ConfigError(
+            "--scheme: expected comma-separated schemes, e.g. nessyahu-tadmor,lagrangian"
+        )
+    out = Path(args.out) if args.out else Path("conslaw-output") / "compare"
+    check_output_dir(out)
+    comparison = compare(args.scene, schemes, _overrides(args.set))
+    print(comparison.table())
+    print(comparison.notes())
+    for path in write_comparison(comparison, out):
+        print(f"wrote {path}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser (exposed for the documentation)."""
     parser = _Parser(prog="conslaw", description="Hyperbolic conservation laws in 1D.")
@@ -251,9 +272,23 @@ def build_parser() -> argparse.ArgumentParser:
         "reproduce", help="regenerate a paper's figures and a report of the errors"
     )
     reproduce.add_argument(
-        "target", choices=["paper"], help="paper: Tai et al. (2001), Figs. 3, 4 and 5"
+        "target",
+        choices=["paper"],
+        help="paper: Tai et al. (2001), Figs. 3, 4 and 5 and the Lagrangian comparison",
     )
     reproduce.add_argument("--out", help="output folder (default conslaw-output/paper)")
+    versus = commands.add_parser(
+        "compare", help="one scene with several schemes: one figure, a table of errors and times"
+    )
+    versus.add_argument("scene", help="built-in scene name or path to a .toml file")
+    versus.add_argument(
+        "--scheme",
+        required=True,
+        help="comma-separated schemes, options after a colon, e.g. "
+        "nessyahu-tadmor,lagrangian,lagrangian:viscosity=0.02",
+    )
+    versus.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+    versus.add_argument("--out", help="output folder (default conslaw-output/compare)")
     return parser
 
 
@@ -267,6 +302,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         "run": _command_run,
         "convergence": _command_convergence,
         "reproduce": _command_reproduce,
+        "compare": _command_compare,
     }
     try:
         return handlers[args.command](args)

@@ -9,6 +9,7 @@ from __future__ import annotations
 import difflib
 import math
 from collections.abc import Iterable
+from typing import Any
 
 
 class ConslawError(Exception):
@@ -24,7 +25,16 @@ class InadmissibleStateError(ConslawError, FloatingPointError):
 
 
 class SchemeBreakdownError(ConslawError, ArithmeticError):
-    """A scheme cannot continue (time step below its floor, crossing Lagrangian nodes, ...)."""
+    """A scheme cannot continue (time step below its floor, crossing Lagrangian nodes, ...).
+
+    ``state`` is the last good state when the scheme provides it; the runner adds
+    ``completed_states``, the states it had reached at the output times before the breakdown.
+    """
+
+    def __init__(self, message: str, state: Any = None) -> None:
+        super().__init__(message)
+        self.state = state
+        self.completed_states: list[Any] = []
 
 
 def unknown_name_message(kind: str, name: str, allowed: Iterable[str]) -> str:

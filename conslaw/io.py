@@ -55,6 +55,7 @@ from numpy.typing import NDArray
 
 from conslaw import tomlwrite
 from conslaw.errors import ConfigError
+from conslaw.state import node_arrays
 
 if TYPE_CHECKING:
     from conslaw.config import Scene
@@ -188,7 +189,10 @@ def write_states(path: Path, result: RunResult, compressed: bool = True) -> Path
     Keys: ``t`` (n_out,), ``x`` (n,), ``edges`` (n + 1,), ``q`` (n_out, n_vars, n),
     ``q_exact`` (exact cell averages, NaN where unknown), ``variables``; with front tracking also
     ``margins`` (rows ``t, x_rear, u_rear, x_front, u_front`` after every step, NaN for a margin
-    that does not exist).
+    that does not exist); with the Lagrangian scheme also its own mesh at the output times:
+    ``nodes`` and ``node_velocities`` (n_out, n_elements + 1) and ``element_depths``
+    (n_out, n_elements) (``q`` is then the conservative projection of the elements onto the
+    grid).
     """
     exact = np.array(
         [
@@ -206,6 +210,7 @@ def write_states(path: Path, result: RunResult, compressed: bool = True) -> Path
         q_exact=exact,
         variables=np.array(result.model.variables),
         **({} if result.margins is None else {"margins": result.margins}),
+        **node_arrays(result.states),
     )
 
 

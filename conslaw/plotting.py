@@ -88,7 +88,7 @@ def profiles_figure(result: RunResult, times: Sequence[float] | None = None) -> 
     error = result.headline_error()
     subtitle = f", L1 error {error:.3e}" if error is not None else ""
     axes[0, 0].set_title(
-        f"{result.scene.name}: {model.name}, {result.scene.reconstructor}"
+        f"{result.scene.name}: {model.name}, {result.scene.reconstructor_label}"
         f"{' + front tracking' if result.scene.front_tracking else ''}, "
         f"N={result.grid.n_cells}{subtitle}",
         fontsize=10,
@@ -125,7 +125,7 @@ def chute_figure(
         axis.text(0.98, 0.85, f"t = {state.t:g}", transform=axis.transAxes, ha="right", fontsize=9)
     axes[-1, 0].set_xlabel("horizontal position")
     axes[0, 0].set_title(
-        f"{result.scene.name}: {model.name}, {result.scene.reconstructor}, "
+        f"{result.scene.name}: {model.name}, {result.scene.reconstructor_label}, "
         f"N={result.grid.n_cells} (depth drawn x{exaggeration:g}, normal to the bed)",
         fontsize=10,
     )

@@ -2,7 +2,8 @@
 
 Each entry of :data:`PAPER_FIGURES` names a built-in scene, the settings the paper states, the
 figures drawn from the run and the numbers that check what the paper's figure shows. To add a
-figure (a scheme comparison, another scene), append a :class:`PaperFigure`. The report
+figure of one run, append a :class:`PaperFigure`; the comparison of Fig. 3 with the Lagrangian
+moving grid (several runs) is its own section. The report
 (``report.md``) holds, per figure, the paper's caption, the measured facts and the pictures, and
 the error table of the similarity solution with and without front tracking at 90, 180 and 360
 cells (``errors.json`` has the same numbers).
@@ -236,16 +237,39 @@ def _table_markdown(rows: list[dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
+def _lagrangian_section(folder: Path, overrides: dict[str, Any] | None) -> tuple[str, list[Path]]:
+    """The paper's Fig. 3 comparison with the Lagrangian moving grid of Savage & Hutter (1989):
+    ``sh-runout-shock`` with NT and the Lagrangian scheme without and with artificial viscosity
+    (:func:`conslaw.comparison.runout_comparison`), as a report section."""
+    from conslaw.comparison import RUNOUT_SCHEMES, compare, write_comparison
+
+    comparison = compare("sh-runout-shock", RUNOUT_SCHEMES, overrides)
+    files = write_comparison(comparison, folder)
+    picture = next(p for p in files if p.suffix == ".png")
+    section = (
+        "## Fig. 3, lowest panel: the Lagrangian moving grid at the shock\n\n"
+        "*Paper:* for the Lagrangian moving-grid method without artificial viscosity, "
+        "oscillations take place when the shock occurs, which may let an element boundary "
+        "overtake another and destroy the scheme; Savage & Hutter damp them with mu = 0.01-0.03."
+        "\n\n*Run:* `conslaw compare sh-runout-shock --scheme "
+        f"{','.join(RUNOUT_SCHEMES)}`.\n\n*Measured:*\n\n{comparison.table()}\n\n"
+        f"![lagrangian comparison]({picture.name})\n"
+    )
+    return section, files
+
+
 def reproduce_paper(
     folder: Path,
     figures: Sequence[PaperFigure] | None = None,
     with_error_table: bool = True,
     overrides: dict[str, Any] | None = None,
     log: Callable[[str], None] = print,
+    with_lagrangian: bool = True,
 ) -> list[Path]:
-    """Run every figure of :data:`PAPER_FIGURES` (or ``figures``), write its PNGs, the error
-    table and ``report.md`` into ``folder``; returns the files written. ``overrides`` change
-    every scene (a quick test with fewer cells)."""
+    """Run every figure of :data:`PAPER_FIGURES` (or ``figures``), write its PNGs, the
+    comparison with the Lagrangian scheme (``with_lagrangian``), the error table and
+    ``report.md`` into ``folder``; returns the files written. ``overrides`` change every scene
+    (a quick test with fewer cells)."""
     import matplotlib.pyplot as plt
 
     from conslaw.io import atomic_write_bytes, prepare_output_dir, write_figure
@@ -283,6 +307,13 @@ def reproduce_paper(
         )
         names = ", ".join(p.name for p in written[-len(pictures) :])
         log(f"{entry.key}: {seconds:.1f} s, wrote {names}")
+    if with_lagrangian:
+        began = time.perf_counter()
+        section, files = _lagrangian_section(folder, overrides)
+        sections.append(section)
+        written.extend(files)
+        names = ", ".join(p.name for p in files)
+        log(f"lagrangian comparison: {time.perf_counter() - began:.1f} s, wrote {names}")
     table = ""
     if with_error_table:
         began = time.perf_counter()

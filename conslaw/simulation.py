@@ -15,7 +15,7 @@ from numpy.typing import NDArray
 from conslaw import registry
 from conslaw.analysis import ErrorNorms, error_norms, total_mass
 from conslaw.config import Scene, load_scene
-from conslaw.errors import ConfigError, RunInterrupted
+from conslaw.errors import ConfigError, RunInterrupted, SchemeBreakdownError
 from conslaw.exact import ExactSolution, Unavailable
 from conslaw.grid import Grid
 from conslaw.model import Model
@@ -95,14 +95,18 @@ def _build(
 
         scheme_class = FrontTrackingNT
     scheme = scheme_class(
-        model, registry.reconstructors.get(scene.reconstructor), grid, left, right, scene.cfl
+        model,
+        registry.reconstructors.get(scene.reconstructor),
+        grid,
+        left,
+        right,
+        scene.cfl,
+        **scene.scheme_options,
     )
     q0 = scene.initial.cell_averages(grid, model)
     if not np.all(np.isfinite(q0)):
         raise ConfigError("initial: the initial data are not finite (NaN or inf)")
-    initial = State(0.0, grid.centres(), q0, 0.0)
-    if scene.front_tracking:
-        initial = scheme.initial_margins(initial)  # type: ignore[attr-defined]
+    initial = scheme.initial_state(State(0.0, grid.centres(), q0, 0.0), scene.initial)
     exact, note = exact_solution_for(scene, model, grid)
     return model, grid, scheme, initial, exact, note
 
@@ -174,7 +178,11 @@ def simulate(
         for t_out in scene.output_times:
             if t_out > state.t:
                 started = time.perf_counter()
-                advanced = scheme.advance(state, t_out, report)
+                try:
+                    advanced = scheme.advance(state, t_out, report)
+                except SchemeBreakdownError as error:
+                    error.completed_states = list(result.states)
+                    raise
                 result.solve_seconds += time.perf_counter() - started
                 state = advanced.state
                 result.steps += advanced.steps

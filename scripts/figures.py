@@ -6,6 +6,7 @@
 docs/figures/paper`.)
 
 Each scene is run with its own settings; its PNGs are copied to docs/figures/<scene>-<name>.png.
+(The Fig. 3-style comparison of NT and the Lagrangian scheme is part of `reproduce paper`.)
 """
 
 from __future__ import annotations

@@ -24,7 +24,9 @@ def reproduced(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, list[Pat
     coarse3 = replace(
         fig3, overrides={"n_cells": 200, "output_times": [float(t) for t in range(21)]}
     )
-    return folder, reproduce_paper(folder, [coarse3, fig4, fig5], log=lambda line: None)
+    return folder, reproduce_paper(
+        folder, [coarse3, fig4, fig5], log=lambda line: None, with_lagrangian=False
+    )
 
 
 def test_every_figure_of_the_report_is_written(reproduced: tuple[Path, list[Path]]) -> None:
@@ -65,6 +67,27 @@ def test_the_report_states_what_the_paper_shows(reproduced: tuple[Path, list[Pat
     assert f"L1 = {fresh.headline_error():.3e}" in fig5
     for thin, tracked in zip(rows[:3], rows[3:], strict=True):
         assert tracked["l1"] < thin["l1"]
+
+
+def test_the_report_has_the_lagrangian_comparison(tmp_path: Path) -> None:
+    """The lowest panel of Fig. 3: NT and the Lagrangian scheme with mu = 0 and 0.02 on the
+    run-out (coarse here; `conslaw reproduce paper` runs the scene's 500 cells)."""
+    files = reproduce_paper(
+        tmp_path, [], with_error_table=False, overrides={"n_cells": 100}, log=lambda line: None
+    )
+    report = (tmp_path / "report.md").read_text()
+    section = report.split("## Fig. 3, lowest panel")[1]
+    assert "![lagrangian comparison](compare-sh-runout-shock.png)" in section
+    assert (tmp_path / "compare-sh-runout-shock.png").read_bytes()[:8] == PNG
+    assert tmp_path / "compare-sh-runout-shock.png" in files
+    rows = [line for line in section.splitlines() if line.startswith("| ")][1:]
+    assert [row.split("|")[1].strip() for row in rows] == [
+        "nessyahu-tadmor, mc",
+        "lagrangian(viscosity=0.0)",
+        "lagrangian(viscosity=0.02)",
+        "lagrangian(viscosity=0.02, pressure='flux')",
+    ]
+    assert "reached t = 20" in rows[0] and "reached t = 20" in rows[2]
 
 
 def test_reproduce_refuses_an_unknown_target(tmp_path: Path) -> None:

@@ -43,6 +43,7 @@ from numpy.typing import NDArray
 
 from conslaw.errors import ConfigError, SchemeBreakdownError
 from conslaw.grid import Grid
+from conslaw.initial import InitialCondition
 from conslaw.model import Model
 from conslaw.reconstruct import Reconstructor
 from conslaw.schemes.base import AdvanceResult, BoundarySpec, ProgressCallback
@@ -53,6 +54,7 @@ from conslaw.schemes.nessyahu_tadmor import (
     SubcellHooks,
     _resist,
 )
+from conslaw.schemes.unit_depth import unit_depth_forces
 from conslaw.state import Margin, Margins, State
 
 Array = NDArray[np.float64]
@@ -331,9 +333,12 @@ class FrontTrackingNT(NessyahuTadmor):
                 f"front_tracking: not available for '{model.name}' with a bed source "
                 "(well-balanced staggered-cell source); use a flat bed"
             )
-        self._unit = np.array([[1.0], [0.0]])
 
     # ------------------------------------------------------------------ margins
+    def initial_state(self, state: State, initial: InitialCondition | None = None) -> State:
+        """``state`` with its margins (:meth:`initial_margins`)."""
+        return state if state.margins is not None else self.initial_margins(state)
+
     def initial_margins(self, state: State) -> State:
         """``state`` with margins found from its depth: one body of wet cells, each margin in
         the outermost wet cell where a line from the margin, meeting the mean of that cell and
@@ -422,19 +427,17 @@ class FrontTrackingNT(NessyahuTadmor):
 
     def _margin_acceleration(self, p: MarginProfile) -> tuple[float, float]:
         """Driving acceleration ``s - beta dh/dx`` (eq. 19) and friction per unit depth."""
-        model = self.model
-        aux = model.aux(np.array([p.margin.position]), self.grid.dx)
         # The earth-pressure state follows the velocity difference across the margin cell.
         spread = p.sign * (p.margin.velocity - p.inner_velocity)
-        aux = model.dynamic_coefficients(
-            np.array([[1.0], [p.inner_velocity]]), np.array([[0.0], [spread]]), aux
+        forces = unit_depth_forces(
+            self.model,
+            np.array([p.margin.position]),
+            np.array([p.margin.velocity]),
+            np.array([spread]),
+            self.grid.dx,
         )
-        beta = float(model.flux_jacobian(self._unit, aux)[1, 0, 0])
-        unit = np.array([[1.0], [p.margin.velocity]])
-        drive = float(model.source(unit, aux)[1, 0])
-        friction = float(model.resistance(unit, aux)[0])
         depth_gradient = -p.sign * p.slope
-        return drive - beta * depth_gradient, friction
+        return float(forces.drive[0] - forces.beta[0] * depth_gradient), float(forces.friction[0])
 
     def _move_margins(self, profiles: list[MarginProfile], dt: float) -> Margins:
         """Integrate eq. (19) over one step for every margin (friction never reverses it)."""
