@@ -123,14 +123,8 @@ class NessyahuTadmor(Scheme):
         self._w0 = np.zeros((nv, n_pad))
         self._w1 = np.zeros((nv, n_pad))
         self._w2 = np.zeros((nv, n_pad))
-        self._slopes = np.zeros((nv, n_pad))
-        self._fluxes = np.zeros((nv, n_pad))
+        self._work = np.zeros(0)  # the kernel's per-block rows, sized when it is built
         self.uses = model.capabilities()
-        needs_source = self.uses["source"] or self.uses["balanced_source"]
-        source_width = n_pad if needs_source else 1
-        self._source_left = np.zeros((nv, source_width))
-        self._source_right = np.zeros((nv, source_width))
-        self._resistance = np.zeros((2, n_pad if self.uses["resistance"] else 1))
 
     # ------------------------------------------------------------------ set-up
     def _padded_positions(self, offset: float) -> Array:
@@ -214,6 +208,7 @@ class NessyahuTadmor(Scheme):
                 self.left.condition.fill_left,
                 self.right.condition.fill_right,
             )
+            self._work = np.zeros(self._kernels.WORK_SIZE)
         return self._kernels
 
     def _family(self, state: State) -> tuple[int, bool]:
@@ -247,7 +242,8 @@ class NessyahuTadmor(Scheme):
         aux_dst = self._aux[0.0 if staggered else 0.5][0]
         src = self._w0
         src[:, GHOSTS : GHOSTS + n_src] = state.q
-        self.kernels.nt_step(
+        kernels = self.kernels
+        kernels.nt_step(
             src,
             self._w1,
             n_src,
@@ -263,11 +259,7 @@ class NessyahuTadmor(Scheme):
             self.params,
             self.bc_left,
             self.bc_right,
-            self._slopes,
-            self._fluxes,
-            self._source_left,
-            self._source_right,
-            self._resistance,
+            self._work,
         )
         offset = 0.0 if staggered else 0.5
         return State(
@@ -426,8 +418,9 @@ class NessyahuTadmor(Scheme):
         steps = 0
         dt_floor = DT_FLOOR_RELATIVE * self.grid.dx
         pairs_per_call = max(1, CELL_UPDATES_PER_CALL // (2 * self.n_primary))
+        kernels = self.kernels
         while True:
-            t, pairs, status, family, cell, dt = self.kernels.advance(
+            t, pairs, status, family, cell, dt = kernels.advance(
                 w0,
                 self._w1,
                 self._w2,
@@ -448,18 +441,14 @@ class NessyahuTadmor(Scheme):
                 self.params,
                 self.bc_left,
                 self.bc_right,
-                self._slopes,
-                self._fluxes,
-                self._source_left,
-                self._source_right,
-                self._resistance,
+                self._work,
             )
             steps += 2 * pairs
-            if status == self.kernels.STATUS_PAUSED:
+            if status == kernels.STATUS_PAUSED:
                 if progress is not None:
                     progress(t, steps)
                 continue
-            if status == self.kernels.STATUS_DONE:
+            if status == kernels.STATUS_DONE:
                 break
             self._raise_failure(status, family, cell, t, steps, dt)
         result = State(t, state.x, w0[:, GHOSTS : GHOSTS + n].copy(), 0.0)
