@@ -160,6 +160,7 @@ def _model_constants(model: Model) -> dict[str, bool | int | float]:
     return {
         "NV": int(model.n_vars),
         "NAUX": int(model.n_aux),
+        "NPARAMS": len(model.param_vector()),
         "HAS_SOURCE": uses["source"],
         "HAS_BALANCED_SOURCE": uses["balanced_source"],
         "HAS_CORRECTION": uses["correction"],

@@ -70,6 +70,7 @@ from conslaw.kernels.placeholders import (
 
 NV = 1
 NAUX = 0
+NPARAMS = 1
 HAS_SOURCE = False
 HAS_BALANCED_SOURCE = False
 HAS_CORRECTION = False
@@ -103,7 +104,8 @@ BLOCK = 256
 STRIDE = BLOCK + 8
 # Rows of the work array: slopes, fluxes at t^{n+1/2}, the sources at the left and right quarter
 # points (with a balanced source: the predicted states), the resistance at both quarter points,
-# and the wave speed of each new cell (NaN where it is inadmissible).
+# the wave speed of each new cell (NaN where it is inadmissible) and the velocities of the source
+# cells (column j + 1 for source cell j, for the momentum-slope bound).
 SLOPE = 0
 FLUX = NV
 SOURCE_LEFT = 2 * NV
@@ -111,8 +113,11 @@ SOURCE_RIGHT = 3 * NV
 RESIST_LEFT = 4 * NV
 RESIST_RIGHT = 4 * NV + 1
 SPEED = 4 * NV + 2
-WORK_ROWS = 4 * NV + 3
+VELOCITY = 4 * NV + 3
+WORK_ROWS = 4 * NV + 4
 WORK_SIZE = WORK_ROWS * STRIDE
+# Lanes of the partial maxima of the wave speed (one SIMD register of doubles).
+LANES = 8
 
 
 @njit(cache=True)
@@ -125,6 +130,14 @@ def col(i):  # type: ignore[no-untyped-def]
 def slot(row, j):  # type: ignore[no-untyped-def]
     """Index of column j of a work row."""
     return np.uintp(row * STRIDE + j)
+
+
+@njit(cache=True)
+def load_params(params, local):  # type: ignore[no-untyped-def]
+    """Copy the parameters into a stack array: the compiler then knows that no store to the state
+    changes them, keeps them in registers and hoists them out of the loops."""
+    for k in range(NPARAMS):
+        local[k] = params[k]
 
 
 @njit(cache=True)
@@ -180,7 +193,7 @@ def copy_cells(src, dst, n):  # type: ignore[no-untyped-def]
             dst[v, col(i)] = src[v, col(i)]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def cell_slope(src, v, i, dx, aux_centre):  # type: ignore[no-untyped-def]
     """Slope of variable v in padded cell i, with the depth rules of the compile-time switches."""
     if SURFACE_BED >= 0 and v == DEPTH:
@@ -219,25 +232,25 @@ def cell_slope(src, v, i, dx, aux_centre):  # type: ignore[no-untyped-def]
 
 @njit(cache=True, error_model="numpy")
 def cell_velocity(src, i):  # type: ignore[no-untyped-def]
+    """``m / h`` of padded cell i, 0 if dry. Written without a branch around the division, so
+    that the loads of h and m stay unconditional (a load in a branch cannot be vectorised)."""
     depth = src[DEPTH, col(i)]
-    return src[MOMENTUM, col(i)] / depth if depth >= DRY_DEPTH and depth > 0.0 else 0.0
+    wet = depth >= DRY_DEPTH and depth > 0.0
+    velocity = src[MOMENTUM, col(i)] / (depth if wet else 1.0)
+    return velocity if wet else 0.0
 
 
-@njit(cache=True, error_model="numpy")
-def bound_momentum_slope(src, i, slope):  # type: ignore[no-untyped-def]
+@njit(cache=True)
+def bound_momentum_slope(depth, momentum, slope, u_left, u_centre, u_right):  # type: ignore[no-untyped-def]
     """Clamp the momentum slope so that the velocities at both quarter points,
-    ``(m +- m'/4) / (h +- h'/4)``, lie between the smallest and largest velocity of cells
-    i-1, i, i+1. The interval always contains ``m' = u_i h'``, so it is never empty."""
-    u_left = cell_velocity(src, i - 1)
-    u_centre = cell_velocity(src, i)
-    u_right = cell_velocity(src, i + 1)
+    ``(m +- m'/4) / (h +- h'/4)``, lie between the smallest and largest velocity of the cell
+    and its two neighbours. The interval always contains ``m' = u h'``, so it is never empty."""
     u_min = min(u_left, u_centre, u_right)
     u_max = max(u_left, u_centre, u_right)
-    m = src[MOMENTUM, col(i)]
-    plus = src[DEPTH, col(i)] + 0.25 * slope[DEPTH]
-    minus = src[DEPTH, col(i)] - 0.25 * slope[DEPTH]
-    low = max(4.0 * (plus * u_min - m), 4.0 * (m - minus * u_max))
-    high = min(4.0 * (plus * u_max - m), 4.0 * (m - minus * u_min))
+    plus = depth + 0.25 * slope[DEPTH]
+    minus = depth - 0.25 * slope[DEPTH]
+    low = max(4.0 * (plus * u_min - momentum), 4.0 * (momentum - minus * u_max))
+    high = min(4.0 * (plus * u_max - momentum), 4.0 * (momentum - minus * u_min))
     value = slope[MOMENTUM]
     if value < low:
         value = low
@@ -257,7 +270,7 @@ def resist(momentum, impulse):  # type: ignore[no-untyped-def]
 
 @njit(cache=True, error_model="numpy")
 def predict_cells(  # type: ignore[no-untyped-def]
-    src, first, count, dt, dx, aux_centre, aux_left_quarter, aux_right_quarter, params, work
+    src, first, count, dt, dx, aux_centre, aux_left_quarter, aux_right_quarter, parameters, work
 ):
     """For source cells ``first .. first + count - 1`` (work columns ``0 .. count - 1``): slope,
     predictor (eq. 15), flux at t^{n+1/2} (eq. 12), and the sources and resistance at the two
@@ -269,7 +282,13 @@ def predict_cells(  # type: ignore[no-untyped-def]
     predicted = local_vector(NV)
     coefficients = local_vector(NAUX)
     matrix = local_matrix(NV)
+    params = local_vector(NPARAMS)
+    load_params(parameters, params)
     half_dt = 0.5 * dt
+    if MOMENTUM >= 0:
+        # Each velocity once (three cells use it), in its own loop (one division per cell).
+        for j in range(count + 2):
+            work[slot(VELOCITY, j)] = cell_velocity(src, first - 1 + j)
     for j in range(count):
         i = first + j
         c = col(i)
@@ -277,7 +296,10 @@ def predict_cells(  # type: ignore[no-untyped-def]
             state[v] = src[v, c]
             slope[v] = cell_slope(src, v, i, dx, aux_centre)
         if MOMENTUM >= 0 and state[DEPTH] > 0.0:
-            bound_momentum_slope(src, i, slope)
+            bound_momentum_slope(
+                state[DEPTH], state[MOMENTUM], slope, work[slot(VELOCITY, j)],
+                work[slot(VELOCITY, j + 1)], work[slot(VELOCITY, j + 2)],
+            )  # fmt: skip
         for v in range(NV):
             work[slot(SLOPE + v, j)] = slope[v]
         for k in range(NAUX):
@@ -331,22 +353,25 @@ def predict_cells(  # type: ignore[no-untyped-def]
 
 @njit(cache=True, error_model="numpy")
 def average_cells(  # type: ignore[no-untyped-def]
-    src, dst, first, dst_first, count, dt, dx, aux_centre, aux_dst, params, work
+    src, dst, first, dst_first, count, dt, dx, aux_centre, aux_dst, parameters, work
 ):
     """The new cells ``dst_first .. dst_first + count - 1`` (eq. 10) from source cells
     ``first ..`` and the work columns ``0 .. count``; the wave speed of each new cell goes to the
-    SPEED row (NaN if inadmissible). Returns the number of new cells with a negative depth and
-    the number with a non-zero momentum."""
+    SPEED row (NaN if inadmissible). Returns how many new cells have a negative depth, a non-zero
+    momentum, and no finite wave speed >= 0 (inadmissible, or an overflow)."""
     state = local_vector(NV)
     predicted = local_vector(NV)
     neighbour = local_vector(NV)
     result = local_vector(NV)
     coefficients = local_vector(NAUX)
     other = local_vector(NAUX)
+    params = local_vector(NPARAMS)
+    load_params(parameters, params)
     half_dt = 0.5 * dt
     ratio = dt / dx
     negative = 0
     moving = 0
+    bad = 0
     for j in range(count):
         left = col(first + j)
         right = col(first + j + 1)
@@ -389,23 +414,32 @@ def average_cells(  # type: ignore[no-untyped-def]
         speed = np.nan
         if _admissible_point(state, coefficients, params):
             speed = _max_speed_point(state, coefficients, params)
+        if not (speed >= 0.0 and speed < np.inf):
+            bad += 1
         work[slot(SPEED, j)] = speed
-    return negative, moving
+    return negative, moving, bad
 
 
 @njit(cache=True)
 def block_speed(work, count):  # type: ignore[no-untyped-def]
-    """Largest wave speed in the SPEED row, and the first column whose speed is not a finite
-    number >= 0 (``count`` if there is none)."""
+    """Largest value of the SPEED row (all finite and >= 0), as LANES partial maxima that the
+    compiler turns into one SIMD maximum per LANES cells."""
+    lanes = local_vector(LANES)
+    for lane in range(LANES):
+        lanes[lane] = 0.0
+    padded = (count + LANES - 1) // LANES * LANES
+    for j in range(count, padded):
+        work[slot(SPEED, j)] = 0.0
+    for start in range(0, padded, LANES):
+        for lane in range(LANES):
+            speed = work[slot(SPEED, start + lane)]
+            if speed > lanes[lane]:
+                lanes[lane] = speed
     largest = 0.0
-    bad = count
-    for j in range(count):
-        speed = work[slot(SPEED, j)]
-        if not (speed >= 0.0 and speed < np.inf):
-            bad = min(bad, j)
-        if speed > largest:
-            largest = speed
-    return largest, bad
+    for lane in range(LANES):
+        if lanes[lane] > largest:
+            largest = lanes[lane]
+    return largest
 
 
 @njit(cache=True, error_model="numpy")
@@ -437,7 +471,7 @@ def nt_step(  # type: ignore[no-untyped-def]
     fill_ghosts(src, n_src, src_staggered, bc_left, bc_right)
     first = NG + shift
     largest = 0.0
-    bad = -1
+    bad = 0
     negative = 0
     moving = 0
     for start in range(0, n_dst, BLOCK):
@@ -446,21 +480,22 @@ def nt_step(  # type: ignore[no-untyped-def]
             src, first + start, count + 1, dt, dx, aux_centre, aux_left_quarter,
             aux_right_quarter, params, work,
         )  # fmt: skip
-        block_negative, block_moving = average_cells(
+        block_negative, block_moving, block_bad = average_cells(
             src, dst, first + start, NG + start, count, dt, dx, aux_centre, aux_dst, params, work
         )
         negative += block_negative
         moving += block_moving
-        block_largest, block_bad = block_speed(work, count)
-        if block_largest > largest:
-            largest = block_largest
-        if bad < 0 and block_bad < count:
-            bad = start + block_bad
-    if bad >= 0:
-        # Rare path: tell an inadmissible cell from an overflowing wave speed, as max_speed does.
+        bad += block_bad
+        if bad == 0:
+            block_largest = block_speed(work, count)
+            if block_largest > largest:
+                largest = block_largest
+    if bad > 0:
+        # Rare path: find the first bad cell and tell an inadmissible state from an overflowing
+        # wave speed, as max_speed does.
         code, cell = max_speed(dst, n_dst, aux_dst, params)
         return code, cell, negative, moving
-    return largest, bad, negative, moving
+    return largest, -1, negative, moving
 
 
 @njit(cache=True)
