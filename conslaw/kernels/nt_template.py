@@ -50,6 +50,7 @@ operation (no fast-math), so the two agree to round-off.
 import numpy as np  # noqa: I001 (the binding block below is replaced when generated)
 from numba import njit
 
+from conslaw.kernels.constants import DEPTH_SLOPE_LIMIT
 from conslaw.kernels.scratch import local_matrix, local_vector
 
 # --- bindings ---
@@ -93,11 +94,6 @@ STATUS_SPEED_NOT_FINITE = 5
 # Courant number that the second half of a step pair must stay below (eq. 17: strictly < 1/2).
 CFL_LIMIT = 0.5
 MAX_RETRIES = 60
-# |depth slope| <= DEPTH_SLOPE_LIMIT * depth: the half-cell averages depth -+ slope/4 keep at least
-# half the depth, so a wet cell always has mass on both sides of its centre and a small enough
-# time step keeps every new depth >= 0 (with the limit 4 a half cell can be empty while the
-# flux at the centre still drains it, and no time step helps).
-DEPTH_SLOPE_LIMIT = 2.0
 
 # New cells per block, and the row length of the work array (BLOCK + 1 source cells, padded).
 BLOCK = 256
@@ -285,6 +281,8 @@ def predict_cells(  # type: ignore[no-untyped-def]
     params = local_vector(NPARAMS)
     load_params(parameters, params)
     half_dt = 0.5 * dt
+    # A multiplication instead of NV divisions per cell (the reference path does the same).
+    inverse_dx = 1.0 / dx
     if MOMENTUM >= 0:
         # Each velocity once (three cells use it), in its own loop (one division per cell).
         for j in range(count + 2):
@@ -311,7 +309,7 @@ def predict_cells(  # type: ignore[no-untyped-def]
             acc = 0.0
             for k in range(NV):
                 acc += matrix[r, k] * slope[k]
-            rate[r] = -acc / dx
+            rate[r] = -acc * inverse_dx
         if HAS_SOURCE:
             _source_point(state, coefficients, params, result)
             for v in range(NV):

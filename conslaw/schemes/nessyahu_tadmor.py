@@ -15,7 +15,7 @@ from numpy.typing import NDArray
 from conslaw.errors import ConfigError, InadmissibleStateError, SchemeBreakdownError
 from conslaw.grid import Grid
 from conslaw.kernels.codegen import nt_kernels
-from conslaw.kernels.nt_template import DEPTH_SLOPE_LIMIT
+from conslaw.kernels.constants import DEPTH_SLOPE_LIMIT
 from conslaw.model import Model
 from conslaw.reconstruct import Reconstructor
 from conslaw.reconstruct.base import STENCIL_HALF_WIDTH
@@ -309,7 +309,7 @@ class NessyahuTadmor(Scheme):
         model = self.model
         coefficients = model.dynamic_coefficients(values, slopes, centre[:, cells])
         jacobian = model.flux_jacobian(values, coefficients)
-        rate = -np.einsum("rcm,cm->rm", jacobian, slopes) / self.grid.dx
+        rate = -np.einsum("rcm,cm->rm", jacobian, slopes) * (1.0 / self.grid.dx)
         rate += model.source(values, coefficients)
         predicted = values + 0.5 * dt * rate
         momentum = model.momentum_index
