@@ -547,6 +547,10 @@ def advance(  # type: ignore[no-untyped-def]
     # buffers[full]; accepting a pair swaps now and full.
     buffers = (w0, w1, w2)
     now, full = 0, 2
+    # The family arguments of nt_step as run-time values (n0 >= 0 always): constants would be
+    # typed as literals and compile nt_step once per family, on top of the one-step interface.
+    shift_up, shift_down = 0 * n0 - 1, 0 * n0
+    from_primary, from_staggered = n0 < 0, n0 >= 0
     pairs = 0
     dt = 0.0
     speed, bad = max_speed(w0, n0, aux0, params)
@@ -569,7 +573,7 @@ def advance(  # type: ignore[no-untyped-def]
             if dt < dt_floor and not last:
                 return finish(buffers, now, n0, t, pairs, STATUS_DT_FLOOR, 0, -1, dt)
             speed1, bad1, negative1, moving1 = nt_step(
-                buffers[now], w1, n0, n1, -1, False, dt, dx, aux0, aux0_left,
+                buffers[now], w1, n0, n1, shift_up, from_primary, dt, dx, aux0, aux0_left,
                 aux0_right, aux1, params, bc_left, bc_right, work,
             )  # fmt: skip
             if negative1 > 0:
@@ -583,7 +587,7 @@ def advance(  # type: ignore[no-untyped-def]
                 last = False
                 continue
             speed2, bad2, negative2, moving2 = nt_step(
-                w1, buffers[full], n1, n0, 0, True, dt, dx, aux1, aux1_left,
+                w1, buffers[full], n1, n0, shift_down, from_staggered, dt, dx, aux1, aux1_left,
                 aux1_right, aux0, params, bc_left, bc_right, work,
             )  # fmt: skip
             if negative2 > 0:
