@@ -58,10 +58,15 @@ KEY_HELP: dict[str, str] = {
     "exact": "compare with the model's exact solution when it has one",
     "boundary": "table: left, right = a boundary name or { kind = ..., options }",
     "initial": "table: kind (piecewise-constant, sine) and its options",
-    "output": "table: formats (list, 'npz'), plot (bool)",
+    "output": (
+        "table: formats = files written at each output time, a list of npz (states.npz), "
+        "xdmf (solution.xdmf + HDF5), vtu (solution-NNNNN.vtu + solution.pvd), csv "
+        "(solution-NNNNN.csv, margins.csv); plot = PNG figures at the end (bool)"
+    ),
 }
 
-OUTPUT_FORMATS = ("npz",)
+#: File formats a scene may ask for (``output.formats``); see :mod:`conslaw.io`.
+OUTPUT_FORMATS = ("npz", "xdmf", "vtu", "csv")
 OUTPUT_KEYS = ("formats", "plot")
 
 
@@ -313,10 +318,13 @@ def validate(name: str, raw: Mapping[str, Any], folder: Path | None = None) -> S
     initial = InitialCondition.from_table(table["initial"], registry.models.get(model))
     output = _check_table(table["output"], "output", OUTPUT_KEYS)
     formats = output.get("formats", ["npz"])
-    if not isinstance(formats, list) or any(f not in OUTPUT_FORMATS for f in formats):
+    if not isinstance(formats, list) or any(
+        not isinstance(f, str) or f not in OUTPUT_FORMATS for f in formats
+    ):
         raise ConfigError(
             f"output.formats: expected a list of {', '.join(OUTPUT_FORMATS)}, got {formats!r}"
         )
+    formats = list(dict.fromkeys(formats))
     plot = output.get("plot", True)
     if not isinstance(plot, bool):
         raise ConfigError(f"output.plot: expected true or false, got {plot!r}")

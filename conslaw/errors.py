@@ -41,3 +41,36 @@ def finite_number(value: object, label: str) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
         raise ConfigError(f"{label}: expected a finite number, got {value!r}")
     return float(value)
+
+
+class RunInterrupted(KeyboardInterrupt):
+    """A run stopped by a signal (Ctrl-C/SIGINT, SIGTERM) between two output times.
+
+    A ``KeyboardInterrupt``, so code that handles Ctrl-C keeps doing so. The message says where
+    the run stopped; the outputs written before (one file set per output time reached) are
+    complete.
+
+    Attributes
+    ----------
+    t : float
+        Time the solution had reached when the signal came.
+    steps : int
+        Time steps taken until then.
+    last_output : float or None
+        The last output time written (None if none was reached).
+    signal_number : int
+        The signal (``signal.SIGINT`` for Ctrl-C).
+    """
+
+    def __init__(self, t: float, steps: int, last_output: float | None, signal_number: int) -> None:
+        import signal
+
+        self.t, self.steps, self.last_output = t, steps, last_output
+        self.signal_number = signal_number
+        name = signal.Signals(signal_number).name
+        kept = (
+            "no output time was reached"
+            if last_output is None
+            else f"outputs up to t={last_output:.6g} are complete"
+        )
+        super().__init__(f"interrupted ({name}) at t={t:.6g}, step {steps}; {kept}")

@@ -100,6 +100,12 @@ class Scheme(ABC):
                 progress(state.t, steps)
         return AdvanceResult(state, steps)
 
+    def cell_coefficients(self, state: State) -> NDArray[np.float64]:
+        """The model's coefficients in the cells of ``state`` as a step from it would use them,
+        shape ``(n_aux, n_cells)`` (for output files). Default: the static ones of
+        :meth:`Model.aux <conslaw.model.Model.aux>`."""
+        return self.model.aux(state.x, self.grid.dx)
+
     def check_admissible(self, state: State, step: int) -> None:
         """Raise InadmissibleStateError naming time, step, cell and values if ``state`` is bad."""
         ok = self.model.is_admissible(state.q, self.model.aux(state.x, self.grid.dx))

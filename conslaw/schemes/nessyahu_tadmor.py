@@ -370,6 +370,36 @@ class NessyahuTadmor(Scheme):
             self._bound_momentum_slopes(w, cells, slopes)
         return slopes
 
+    def cell_coefficients(self, state: State) -> Array:
+        """The coefficients of the primary cells of ``state`` as the next step uses them: the
+        static ones, with the dynamic ones (``Model.coefficients_point``; the Savage–Hutter
+        earth-pressure coefficient, eq. 5) set from the state's reconstructed slopes."""
+        n, staggered = self._family(state)
+        if staggered:
+            raise ValueError("cell_coefficients() needs a state on the primary grid (offset 0)")
+        centre = self._aux[0.0][0]
+        cells = slice(GHOSTS, GHOSTS + n)
+        static = np.ascontiguousarray(centre[:, cells])
+        if not self.uses["dynamic_coefficients"]:
+            return static
+        w = np.zeros((self.model.n_vars, n + 2 * GHOSTS))
+        w[:, cells] = state.q
+        self.left.condition.fill_left(w, n, GHOSTS, False, self.bc_left)
+        self.right.condition.fill_right(w, n, GHOSTS, False, self.bc_right)
+        hooks = self._hooks_at(state)
+        x_padded = self._padded_positions(0.0)
+        stencil = slice(GHOSTS - STENCIL_HALF_WIDTH, GHOSTS + n + STENCIL_HALF_WIDTH)
+        slopes = self._reference_slopes(
+            w, centre, stencil, cells, hooks.stencil_values(w, x_padded)
+        )
+        values = w[:, cells]
+        hooks.adjust_slopes(values, slopes, x_padded[cells])
+        return self.model.dynamic_coefficients(values, slopes, static)
+
+    def _hooks_at(self, state: State) -> SubcellHooks:
+        """The sub-cell reconstruction used in the cells of ``state`` (none here)."""
+        return SubcellHooks()
+
     def _bound_momentum_slopes(self, w: Array, cells: slice, slopes: Array) -> None:
         """numpy version of the kernel's ``bound_momentum_slope``."""
         model = self.model
