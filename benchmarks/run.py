@@ -1,30 +1,43 @@
-"""Benchmarks: throughput, error against run time, paper scenes, and PyClaw side by side.
+"""Benchmarks: throughput, error against run time, the paper scene, and PyClaw side by side.
 
-    python benchmarks/run.py [--quick] [--json PATH]
+    python benchmarks/run.py [--quick] [--json PATH] [--plot PATH]
 
-Prints markdown tables; ``--json`` also writes every number. Medians of 3 runs with min-max; the
-compiled kernels are warmed up first (compilation is not timed). PyClaw (``pip install clawpack``,
-built with gfortran) is measured in the same run when it can be imported, and skipped with a
-message otherwise. Quote ratios from one run: the machine is noisy.
+Prints every number as it is measured, then the summary tables; ``--json`` writes all numbers,
+``--plot`` the work-precision figure. Times are wall-clock medians of ``REPEATS`` runs with their
+min and max; the compiled kernels are loaded or compiled before anything is timed. PyClaw
+(``pip install clawpack``, which builds its Fortran with gfortran) is measured in the same run
+when it can be imported, and skipped with a message otherwise. Quote ratios from one run: the
+machine may be shared, so the load average before and after each section is recorded too.
 
-(a) cell updates per second (cells x time steps / solve time) for each model and N
-(b) work-precision: the solve time needed to reach L1 = 1e-3 and 1e-4, interpolated (log-log)
-    between the N of a convergence study
-(c) the 90-cell paper scene: solve time, and wall time of the whole ``conslaw run`` process
-(d) PyClaw classic (MC limiter, Roe) on the same dam break: (a) and (b) for it, and the ratios
+(a) cell updates per second (cells x time steps / solve time) of every model at N = 1e3 .. 1e6,
+    and the cost per cell update relative to N = 1e4 (linear cost: all ratios near 1)
+(b) work-precision: solve time against the L1 error on dam-break-wet, dam-break-dry and
+    burgers-riemann (MC limiter), and the time to reach L1 = 1e-3 and 1e-4 (log-log interpolated
+    between the N of the study)
+(c) the 90-cell paper scene sh-similarity: solve time, and the wall time of the whole
+    ``conslaw run sh-similarity`` process (default options, and with ``--no-plot``)
+(d) PyClaw classic (Fortran, MC limiter; Roe with entropy fix for shallow water) on the same
+    problems: its rates, its work-precision, and the ratios
+(e) memory: resident size and numba allocations after 100 and after 10000 step pairs
 """
 
 from __future__ import annotations
 
 import argparse
+import datetime
 import json
 import math
+import os
+import platform
+import resource
+import shutil
 import statistics
 import subprocess
 import sys
 import tempfile
 import time
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -32,14 +45,24 @@ import numpy as np
 import conslaw
 from conslaw.analysis import error_norms
 from conslaw.convergence import convergence_study
-from conslaw.simulation import build
+from conslaw.simulation import build, simulate
 
 REPEATS = 3
-THROUGHPUT_SCENES = {
-    "burgers": "burgers-sine",
-    "shallow-water": "dam-break-wet",
-    "savage-hutter": "sh-similarity",
+PROCESS_REPEATS = 5
+# Model -> (scene, reconstructor) of the throughput rows.
+THROUGHPUT = {
+    "burgers": ("burgers-sine", "mc"),
+    "burgers, weno5": ("burgers-sine", "weno5"),
+    "shallow-water": ("dam-break-wet", "mc"),
+    "savage-hutter": ("sh-similarity", "superbee"),
 }
+WORK_PRECISION_SCENES = ("dam-break-wet", "dam-break-dry", "burgers-riemann")
+TARGETS = (1e-3, 1e-4)
+
+
+def load() -> float:
+    """The one-minute load average (other processes competing for the 2 cores)."""
+    return os.getloadavg()[0]
 
 
 def timed(function: Callable[[], Any], repeats: int = REPEATS) -> tuple[float, float, float, Any]:
@@ -53,28 +76,15 @@ def timed(function: Callable[[], Any], repeats: int = REPEATS) -> tuple[float, f
     return statistics.median(times), min(times), max(times), result
 
 
-def throughput(sizes: list[int], target_updates: float) -> list[dict[str, Any]]:
-    """Cell updates per second of the fused NT kernel for each model at each N."""
-    rows = []
-    for model_name, scene in THROUGHPUT_SCENES.items():
-        for n in sizes:
-            sc = conslaw.load_scene(scene, {"n_cells": n, "output_times": []})
-            _, _, scheme, initial, _ = build(sc)
-            steps_wanted = max(20, int(target_updates / n))
-            # Never past the scene's own end time (the flow must stay the scene's flow).
-            t_end = min(sc.t_end, scheme.stable_dt(initial) * steps_wanted)
-            scheme.advance(initial, initial.t)  # compile or load from cache
-            median, low, high, result = timed(lambda s=scheme, i=initial, t=t_end: s.advance(i, t))
-            rate = n * result.steps / median
-            rows.append(
-                {"model": model_name, "scene": scene, "n_cells": n, "steps": result.steps,
-                 "seconds": median, "min": low, "max": high, "cell_updates_per_s": rate}
-            )  # fmt: skip
-            print(
-                f"  {model_name:14s} N={n:>8d} steps={result.steps:>5d} {median:.4f} s  "
-                f"{rate:.3e} cell updates/s"
-            )
-    return rows
+def cpu_timed(function: Callable[[], Any], repeats: int = REPEATS) -> float:
+    """Median CPU time of this process during ``function()``: unlike the wall time it leaves out
+    the time the process waited for a core that another process held."""
+    times = []
+    for _ in range(repeats):
+        started = time.process_time()
+        function()
+        times.append(time.process_time() - started)
+    return statistics.median(times)
 
 
 def time_to_reach(
@@ -88,43 +98,130 @@ def time_to_reach(
     return None
 
 
-def work_precision(scene: str, cells: list[int], reconstructor: str) -> dict[str, Any]:
+# --------------------------------------------------------------------------- (a) throughput
+def throughput(sizes: list[int], target_updates: float) -> list[dict[str, Any]]:
+    """Cell updates per second of the fused NT kernel for each model at each N."""
+    rows = []
+    for label, (scene, reconstructor) in THROUGHPUT.items():
+        for n in sizes:
+            sc = conslaw.load_scene(
+                scene, {"n_cells": n, "output_times": [], "reconstructor": reconstructor}
+            )
+            _, _, scheme, initial, _ = build(sc)
+            steps_wanted = max(20, int(target_updates / n))
+            # Never past the scene's own end time (the flow must stay the scene's flow).
+            t_end = min(sc.t_end, scheme.stable_dt(initial) * steps_wanted)
+            scheme.advance(initial, initial.t)  # compile or load from the cache
+            solve = lambda s=scheme, i=initial, t=t_end: s.advance(i, t)  # noqa: E731
+            median, low, high, result = timed(solve)
+            cpu = cpu_timed(solve)
+            rate = n * result.steps / median
+            rows.append(
+                {"model": label, "scene": scene, "reconstructor": reconstructor, "n_cells": n,
+                 "steps": result.steps, "seconds": median, "min": low, "max": high,
+                 "cpu_seconds": cpu, "cell_updates_per_s": rate,
+                 "cell_updates_per_cpu_s": n * result.steps / cpu,
+                 "ns_per_cell_update": 1e9 / rate}
+            )  # fmt: skip
+            print(
+                f"  {label:15s} N={n:>8d} steps={result.steps:>5d} {median:.4f} s "
+                f"({low:.4f}-{high:.4f})  {rate:.3e} cell updates/s (per CPU second "
+                f"{n * result.steps / cpu:.3e})"
+            )
+    return rows
+
+
+def linearity(rows: list[dict[str, Any]], reference_n: int = 10_000) -> dict[str, dict[int, float]]:
+    """Cost per cell update at each N relative to N = reference_n, for every model."""
+    result: dict[str, dict[int, float]] = {}
+    for label in THROUGHPUT:
+        own = {r["n_cells"]: r["ns_per_cell_update"] for r in rows if r["model"] == label}
+        if reference_n in own:
+            result[label] = {n: cost / own[reference_n] for n, cost in sorted(own.items())}
+    return result
+
+
+# --------------------------------------------------------------------------- (b) work-precision
+def work_precision(scene: str, cells: list[int], reconstructor: str = "mc") -> dict[str, Any]:
     study = convergence_study(scene, cells, [reconstructor], repeats=REPEATS, measure_import=False)
     seconds = [r.solve_median for r in study.rows]
     errors = [r.l1 for r in study.rows]
-    return {
+    for r in study.rows:
+        print(
+            f"  {scene:16s} N={r.n_cells:>6d} steps={r.steps:>6d} {r.solve_median:.4f} s "
+            f"({r.solve_min:.4f}-{r.solve_max:.4f})  L1={r.l1:.3e}"
+        )
+    row: dict[str, Any] = {
         "scene": scene, "reconstructor": reconstructor, "cells": cells, "seconds": seconds,
-        "l1": errors, "time_to_1e-3": time_to_reach(cells, seconds, errors, 1e-3),
-        "time_to_1e-4": time_to_reach(cells, seconds, errors, 1e-4),
+        "min": [r.solve_min for r in study.rows], "max": [r.solve_max for r in study.rows],
+        "steps": [r.steps for r in study.rows], "l1": errors,
     }  # fmt: skip
+    for target in TARGETS:
+        row[f"time_to_{target:g}"] = time_to_reach(cells, seconds, errors, target)
+    return row
+
+
+# --------------------------------------------------------------------------- (c) paper scene
+def conslaw_command() -> list[str]:
+    """The ``conslaw`` console script of this environment (else ``python -m conslaw.cli``)."""
+    script = Path(sys.executable).with_name("conslaw")
+    if script.exists():
+        return [str(script)]
+    found = shutil.which("conslaw")
+    return [found] if found else [sys.executable, "-m", "conslaw.cli"]
 
 
 def paper_scene() -> dict[str, Any]:
-    """sh-similarity (90 cells, t = 6): solve time, and the whole `conslaw run` process."""
-    result = conslaw.run("sh-similarity")  # warm the cache
-    solve = [conslaw.run("sh-similarity").solve_seconds for _ in range(REPEATS)]
-    with tempfile.TemporaryDirectory() as folder:
-        command = [
-            sys.executable,
-            "-m",
-            "conslaw.cli",
-            "run",
-            "sh-similarity",
-            "--no-plot",
-            "--out",
-            folder,
-        ]
-        median, low, high, _ = timed(
-            lambda: subprocess.run(command, check=True, capture_output=True)
-        )
-    return {
-        "scene": "sh-similarity", "n_cells": result.grid.n_cells, "steps": result.steps,
-        "solve_median": statistics.median(solve), "solve_min": min(solve), "solve_max": max(solve),
-        "process_median": median, "process_min": low, "process_max": high,
+    """sh-similarity (90 cells, t = 6): solve time, and the whole ``conslaw run`` process."""
+    scene = conslaw.load_scene("sh-similarity")
+    warm = simulate(scene)  # compile or load the kernels
+    solve = [simulate(scene).solve_seconds for _ in range(2 * REPEATS + 1)]
+    front = conslaw.load_scene("sh-similarity-ft")
+    simulate(front)
+    front_solve = [simulate(front).solve_seconds for _ in range(REPEATS)]
+    result: dict[str, Any] = {
+        "scene": "sh-similarity", "n_cells": warm.grid.n_cells, "steps": warm.steps,
+        "solve_median": statistics.median(solve), "solve_min": min(solve),
+        "solve_max": max(solve),
+        "front_tracking_solve_median": statistics.median(front_solve),
+        "front_tracking_solve_min": min(front_solve), "front_tracking_solve_max": max(front_solve),
     }  # fmt: skip
+    base = conslaw_command()
+    with tempfile.TemporaryDirectory() as folder:
+        runs = iter(range(100 * PROCESS_REPEATS))  # a fresh output folder for every run
+        for label, extra in (("process", []), ("process_no_plot", ["--no-plot"])):
+            cpu: list[float] = []
+
+            def once(extra: list[str] = extra, cpu: list[float] = cpu) -> None:
+                out = Path(folder) / f"run{next(runs)}"
+                command = [*base, "run", "sh-similarity", *extra, "--out", str(out)]
+                before = resource.getrusage(resource.RUSAGE_CHILDREN)
+                subprocess.run(command, check=True, capture_output=True)
+                after = resource.getrusage(resource.RUSAGE_CHILDREN)
+                cpu.append(after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime)
+
+            once()  # the compile cache is warm after this
+            cpu.clear()
+            median, low, high, _ = timed(once, PROCESS_REPEATS)
+            result[f"{label}_median"] = median
+            result[f"{label}_min"] = low
+            result[f"{label}_max"] = high
+            result[f"{label}_cpu_median"] = statistics.median(cpu)
+    result["process_command"] = " ".join(
+        [Path(base[0]).name, *base[1:], "run", "sh-similarity", "--out", "DIR"]
+    )
+    print(
+        f"  sh-similarity: {warm.steps} steps, solve {result['solve_median'] * 1e3:.2f} ms; "
+        f"front tracking (numpy) {result['front_tracking_solve_median'] * 1e3:.1f} ms; whole "
+        f"process {result['process_median']:.2f} s ({result['process_min']:.2f}-"
+        f"{result['process_max']:.2f}; CPU {result['process_cpu_median']:.2f} s), with "
+        f"--no-plot {result['process_no_plot_median']:.2f} s ({result['process_no_plot_min']:.2f}"
+        f"-{result['process_no_plot_max']:.2f}; CPU {result['process_no_plot_cpu_median']:.2f} s)"
+    )
+    return result
 
 
-# --------------------------------------------------------------------------- PyClaw
+# --------------------------------------------------------------------------- (d) PyClaw
 def pyclaw_available() -> bool:
     try:
         import clawpack.pyclaw
@@ -134,78 +231,253 @@ def pyclaw_available() -> bool:
     return True
 
 
-def pyclaw_dam_break(n: int, t_final: float = 2.0) -> tuple[float, int, np.ndarray]:
-    """PyClaw classic, MC limiter, Roe with entropy fix: the dam-break-wet scene. Returns the solve
-    time, the number of time steps and the depth at ``t_final``."""
+def _dam_break(x: np.ndarray) -> list[np.ndarray]:
+    return [np.where(x < 0.0, 3.0, 1.0), np.zeros_like(x)]
+
+
+def _burgers_riemann(x: np.ndarray) -> list[np.ndarray]:
+    return [np.where(x < 0.0, -0.5, np.where(x < 1.0, 1.0, 0.0))]
+
+
+def _burgers_sine(x: np.ndarray) -> list[np.ndarray]:
+    return [0.25 + 0.5 * np.sin(2.0 * np.pi * x)]
+
+
+# The same problems as the conslaw scenes of the same name (domain, data, end time, boundaries).
+# Jumps sit on cell faces for the N used, so point values are the exact cell averages.
+PYCLAW_PROBLEMS: dict[str, dict[str, Any]] = {
+    "dam-break-wet": {"solver": "shallow_roe_with_efix_1D", "domain": (-5.0, 5.0),
+                      "t_end": 2.0, "periodic": False, "initial": _dam_break},
+    "burgers-riemann": {"solver": "burgers_1D", "domain": (-1.0, 3.0), "t_end": 1.0,
+                        "periodic": False, "initial": _burgers_riemann},
+    "burgers-sine": {"solver": "burgers_1D", "domain": (0.0, 1.0), "t_end": 0.25,
+                     "periodic": True, "initial": _burgers_sine},
+}  # fmt: skip
+
+
+def pyclaw_solve(
+    problem: str, n: int, t_final: float | None = None
+) -> tuple[float, int, Any, float]:
+    """PyClaw classic (Fortran, MC limiter) on ``problem`` with N cells. Returns the solve time
+    (``Controller.run``), the number of time steps, variable 0 at the end, and the CPU time."""
     from clawpack import pyclaw, riemann
 
-    solver = pyclaw.ClawSolver1D(riemann.shallow_roe_with_efix_1D)
+    spec = PYCLAW_PROBLEMS[problem]
+    solver = pyclaw.ClawSolver1D(getattr(riemann, spec["solver"]))
     solver.limiters = pyclaw.limiters.tvd.MC
     solver.kernel_language = "Fortran"
-    solver.bc_lower[0] = pyclaw.BC.extrap
-    solver.bc_upper[0] = pyclaw.BC.extrap
-    x = pyclaw.Dimension(-5.0, 5.0, n, name="x")
+    boundary = pyclaw.BC.periodic if spec["periodic"] else pyclaw.BC.extrap
+    solver.bc_lower[0] = solver.bc_upper[0] = boundary
+    x = pyclaw.Dimension(*spec["domain"], n, name="x")
     domain = pyclaw.Domain(x)
-    state = pyclaw.State(domain, 2)
-    state.problem_data["grav"] = 1.0
-    state.problem_data["dry_tolerance"] = 1e-3
-    state.problem_data["sea_level"] = 0.0
-    centres = state.grid.x.centers
-    state.q[0, :] = np.where(centres < 0.0, 3.0, 1.0)
-    state.q[1, :] = 0.0
+    initial = spec["initial"](x.centers)
+    state = pyclaw.State(domain, len(initial))
+    state.problem_data.update({"grav": 1.0, "dry_tolerance": 1e-3, "sea_level": 0.0, "efix": True})
+    for v, values in enumerate(initial):
+        state.q[v, :] = values
     controller = pyclaw.Controller()
     controller.solution = pyclaw.Solution(state, domain)
     controller.solver = solver
-    controller.tfinal = t_final
+    controller.tfinal = spec["t_end"] if t_final is None else t_final
     controller.num_output_times = 1
     controller.output_format = None
     controller.keep_copy = True
     controller.verbosity = 0
-    started = time.perf_counter()
+    started, cpu_started = time.perf_counter(), time.process_time()
     controller.run()
-    elapsed = time.perf_counter() - started
-    return elapsed, int(solver.status["numsteps"]), np.array(controller.frames[-1].q[0])
+    elapsed, cpu = time.perf_counter() - started, time.process_time() - cpu_started
+    return elapsed, int(solver.status["numsteps"]), np.array(controller.frames[-1].q[0]), cpu
 
 
-def pyclaw_rows(sizes: list[int], cells: list[int], target_updates: float) -> dict[str, Any]:
-    exact = build(conslaw.load_scene("dam-break-wet"))[4]
-    assert exact is not None
-    throughput_rows = []
+def pyclaw_throughput(
+    problem: str, sizes: list[int], target_updates: float
+) -> list[dict[str, Any]]:
+    rows = []
+    low_x, high_x = PYCLAW_PROBLEMS[problem]["domain"]
     for n in sizes:
-        # About target_updates cell updates (PyClaw's default Courant number is 0.9, wave speed
-        # up to about 3.4 here), not the whole t = 2 run, which would take minutes at N = 1e5.
-        t_final = min(2.0, max(20.0, target_updates / n) * 0.9 * (10.0 / n) / 3.4)
-        pyclaw_dam_break(n, t_final)
-        times = [pyclaw_dam_break(n, t_final) for _ in range(REPEATS)]
-        median = statistics.median(t for t, _, _ in times)
-        steps = times[0][1]
-        throughput_rows.append(
-            {
-                "n_cells": n,
-                "steps": steps,
-                "seconds": median,
-                "cell_updates_per_s": n * steps / median,
-            }
+        # About target_updates cell updates (Courant number 0.9, wave speeds up to about 3.4
+        # for the dam break, 0.75 for the sine), never past the problem's end time.
+        speed = 3.4 if problem == "dam-break-wet" else 0.75
+        t_final = min(
+            PYCLAW_PROBLEMS[problem]["t_end"],
+            max(20.0, target_updates / n) * 0.9 * (high_x - low_x) / n / speed,
         )
+        pyclaw_solve(problem, n, t_final)
+        runs = [pyclaw_solve(problem, n, t_final) for _ in range(REPEATS)]
+        wall = [r[0] for r in runs]
+        median, low, high = statistics.median(wall), min(wall), max(wall)
+        cpu = statistics.median(r[3] for r in runs)
+        steps = runs[0][1]
+        rate = n * steps / median
+        rows.append(
+            {"problem": problem, "n_cells": n, "steps": steps, "seconds": median, "min": low,
+             "max": high, "cpu_seconds": cpu, "cell_updates_per_s": rate,
+             "cell_updates_per_cpu_s": n * steps / cpu}
+        )  # fmt: skip
         print(
-            f"  pyclaw         N={n:>8d} steps={steps:>5d} {median:.4f} s  "
-            f"{n * steps / median:.3e} cell updates/s"
+            f"  pyclaw {problem:15s} N={n:>8d} steps={steps:>5d} {median:.4f} s "
+            f"({low:.4f}-{high:.4f})  {rate:.3e} cell updates/s (per CPU second "
+            f"{n * steps / cpu:.3e})"
         )
-    seconds, errors = [], []
+    return rows
+
+
+def pyclaw_work_precision(problem: str, cells: list[int]) -> dict[str, Any]:
+    exact = build(conslaw.load_scene(problem))[4]
+    assert exact is not None
+    low_x, high_x = PYCLAW_PROBLEMS[problem]["domain"]
+    t_end = PYCLAW_PROBLEMS[problem]["t_end"]
+    seconds, minima, maxima, errors, steps = [], [], [], [], []
     for n in cells:
-        runs = [pyclaw_dam_break(n) for _ in range(REPEATS)]
-        seconds.append(statistics.median(t for t, _, _ in runs))
-        edges = np.linspace(-5.0, 5.0, n + 1)
-        errors.append(
-            error_norms(runs[-1][2], exact.cell_averages(edges, 2.0)[0], 10.0 / n, 10.0).l1
+        pyclaw_solve(problem, n)
+        runs = [pyclaw_solve(problem, n) for _ in range(REPEATS)]
+        wall = [r[0] for r in runs]
+        median, low, high = statistics.median(wall), min(wall), max(wall)
+        _, count, q0, _ = runs[-1]
+        edges = np.linspace(low_x, high_x, n + 1)
+        reference = exact.cell_averages(edges, t_end)[0]
+        error = error_norms(q0, reference, (high_x - low_x) / n, high_x - low_x).l1
+        seconds.append(median)
+        minima.append(low)
+        maxima.append(high)
+        errors.append(error)
+        steps.append(count)
+        print(
+            f"  pyclaw {problem:15s} N={n:>6d} steps={count:>6d} {median:.4f} s "
+            f"({low:.4f}-{high:.4f})  L1={error:.3e}"
         )
+    row: dict[str, Any] = {
+        "scene": problem, "cells": cells, "seconds": seconds, "min": minima, "max": maxima,
+        "steps": steps, "l1": errors,
+    }  # fmt: skip
+    for target in TARGETS:
+        row[f"time_to_{target:g}"] = time_to_reach(cells, seconds, errors, target)
+    return row
+
+
+# --------------------------------------------------------------------------- (e) memory
+def resident_megabytes() -> float:
+    """Current resident set size of this process (Linux /proc; NaN elsewhere)."""
+    try:
+        pages = int(Path("/proc/self/statm").read_text().split()[1])
+    except (OSError, IndexError, ValueError):
+        return float("nan")
+    return pages * os.sysconf("SC_PAGE_SIZE") / 2**20
+
+
+def memory(n: int = 1000) -> dict[str, Any]:
+    """Resident size and numba (NRT) allocations after advancing 100 and 10000 step pairs."""
+    from numba.core.runtime import _nrt_python, rtsys
+
+    sc = conslaw.load_scene("dam-break-wet", {"n_cells": n, "output_times": [], "x_min": -50.0,
+                                              "x_max": 50.0})  # fmt: skip
+    _, _, scheme, initial, _ = build(sc)
+    dt = scheme.stable_dt(initial)
+    scheme.advance(initial, 2 * dt)
+    _nrt_python.memsys_enable_stats()
+    result: dict[str, Any] = {"n_cells": n, "rss_mb_before": resident_megabytes()}
+    for pairs in (100, 10_000):
+        calls: list[float] = []  # the progress callback runs once per call of the kernel
+        before = rtsys.get_allocation_stats().alloc
+        advanced = scheme.advance(initial, 2 * pairs * dt, lambda t, _, c=calls: c.append(t))
+        allocations = rtsys.get_allocation_stats().alloc - before
+        result[f"steps_{pairs}"] = advanced.steps
+        result[f"kernel_calls_{pairs}"] = len(calls)
+        result[f"allocations_{pairs}"] = allocations
+        result[f"rss_mb_{pairs}"] = resident_megabytes()
+        print(
+            f"  N={n}, {advanced.steps} steps in {len(calls)} kernel calls: RSS "
+            f"{result[f'rss_mb_{pairs}']:.1f} MB, {allocations} numba allocations "
+            f"({allocations / len(calls):.0f} per call, {allocations / advanced.steps:.4f} per "
+            "step)"
+        )
+    return result
+
+
+# --------------------------------------------------------------------------- summary, plot
+def ratios(report: dict[str, Any]) -> dict[str, Any]:
+    """conslaw / PyClaw: rate ratios (higher is better for conslaw) and time ratios (lower)."""
+    pyclaw = report.get("pyclaw")
+    if not pyclaw:
+        return {}
+    ours = {(r["model"], r["n_cells"]): r for r in report["throughput"]}
+    result: dict[str, Any] = {"rate": {}, "rate_cpu": {}, "time_to": {}}
+    for label, problem in (("shallow-water", "dam-break-wet"), ("burgers", "burgers-sine")):
+        for row in pyclaw["throughput"][problem]:
+            key = (label, row["n_cells"])
+            if key in ours:
+                ratio = ours[key]["cell_updates_per_s"] / row["cell_updates_per_s"]
+                cpu_ratio = ours[key]["cell_updates_per_cpu_s"] / row["cell_updates_per_cpu_s"]
+                result["rate"][f"{label} N={row['n_cells']}"] = ratio
+                result["rate_cpu"][f"{label} N={row['n_cells']}"] = cpu_ratio
+                print(
+                    f"  {label} N={row['n_cells']}: conslaw / PyClaw rate {ratio:.2f} "
+                    f"(per CPU second {cpu_ratio:.2f})"
+                )
+    mine = {row["scene"]: row for row in report["work_precision"]}
+    for problem, theirs in pyclaw["work_precision"].items():
+        for target in TARGETS:
+            key = f"time_to_{target:g}"
+            if mine[problem][key] and theirs[key]:
+                ratio = mine[problem][key] / theirs[key]
+                result["time_to"][f"{problem} {key}"] = ratio
+                print(
+                    f"  {problem} time to L1 = {target:g}: conslaw {mine[problem][key]:.4f} s, "
+                    f"PyClaw {theirs[key]:.4f} s, ratio {ratio:.3f}"
+                )
+    return result
+
+
+def plot_work_precision(report: dict[str, Any], path: str) -> None:
+    """Error against solve time, conslaw and PyClaw, log-log."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    figure, axis = plt.subplots(figsize=(7.0, 4.6))
+    colours = {"dam-break-wet": "C0", "dam-break-dry": "C1", "burgers-riemann": "C2"}
+    for row in report["work_precision"]:
+        axis.loglog(row["seconds"], row["l1"], "o-", color=colours[row["scene"]],
+                    label=f"conslaw NT, {row['scene']}")  # fmt: skip
+    for problem, row in (report.get("pyclaw") or {}).get("work_precision", {}).items():
+        axis.loglog(row["seconds"], row["l1"], "s--", color=colours[problem],
+                    label=f"PyClaw classic, {problem}")  # fmt: skip
+    for target in TARGETS:
+        axis.axhline(target, color="0.6", lw=0.8, ls=":")
+    axis.set_xlabel("solve time [s] (median of 3)")
+    axis.set_ylabel("L1 error of the depth / u against the exact cell averages")
+    axis.set_title("Work-precision, MC limiter, N = 100 ... 12800")
+    axis.grid(True, which="both", alpha=0.3)
+    axis.legend(fontsize=8)
+    figure.tight_layout()
+    figure.savefig(path, dpi=120)
+    plt.close(figure)
+    print(f"  wrote {path}")
+
+
+def environment() -> dict[str, Any]:
+    import numba
+
+    try:
+        commit = subprocess.run(
+            ["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, check=True,
+            cwd=Path(__file__).resolve().parent,
+        ).stdout.strip()  # fmt: skip
+    except (OSError, subprocess.CalledProcessError):
+        commit = "unknown"
+    cpu = "unknown"
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
     return {
-        "throughput": throughput_rows,
-        "work_precision": {
-            "cells": cells, "seconds": seconds, "l1": errors,
-            "time_to_1e-3": time_to_reach(cells, seconds, errors, 1e-3),
-            "time_to_1e-4": time_to_reach(cells, seconds, errors, 1e-4),
-        },
+        "date": datetime.datetime.now().isoformat(timespec="seconds"), "commit": commit,
+        "cpu": cpu, "cores": os.cpu_count(), "python": platform.python_version(),
+        "numpy": np.__version__, "numba": numba.__version__,
     }  # fmt: skip
 
 
@@ -213,53 +485,63 @@ def main() -> None:
     parser = argparse.ArgumentParser(description="conslaw benchmarks")
     parser.add_argument("--quick", action="store_true", help="smaller sizes (a smoke test)")
     parser.add_argument("--json", help="write all numbers to this JSON file")
+    parser.add_argument("--plot", help="write the work-precision figure (PNG) to this file")
     args = parser.parse_args()
     sizes = [1000, 10000] if args.quick else [1000, 10000, 100000, 1000000]
-    cells = [100, 200, 400] if args.quick else [100, 200, 400, 800, 1600, 3200, 6400]
+    cells = [100, 200, 400] if args.quick else [100, 200, 400, 800, 1600, 3200, 6400, 12800]
     target = 2e6 if args.quick else 2e7
-    report: dict[str, Any] = {}
-    print("(a) throughput of the fused NT kernel")
-    report["throughput"] = throughput(sizes, target)
-    print("(b) work-precision (mc)")
-    report["work_precision"] = [
-        work_precision(scene, cells, "mc")
-        for scene in ("dam-break-wet", "dam-break-dry", "burgers-riemann")
-    ]
-    for row in report["work_precision"]:
-        print(
-            f"  {row['scene']:16s} time to L1=1e-3: {row['time_to_1e-3']}  "
-            f"to 1e-4: {row['time_to_1e-4']}"
-        )
-    print("(c) paper scene")
-    report["paper_scene"] = paper_scene()
-    print(f"  {report['paper_scene']}")
-    print("(d) PyClaw")
+    report: dict[str, Any] = {"environment": environment(), "load": {}}
+    print(f"environment: {report['environment']}")
+
+    def section(name: str, function: Callable[[], Any]) -> Any:
+        print(f"{name} (load average {load():.2f})")
+        started = load()
+        value = function()
+        report["load"][name.split()[0]] = [started, load()]
+        return value
+
+    report["throughput"] = section("(a) throughput of the fused NT kernel",
+                                   lambda: throughput(sizes, target))  # fmt: skip
+    report["linearity"] = linearity(report["throughput"])
+    for label, relative in report["linearity"].items():
+        values = ", ".join(f"N={n}: {r:.2f}" for n, r in relative.items())
+        print(f"  cost per cell update relative to N=1e4, {label}: {values}")
+    report["work_precision"] = section(
+        "(b) work-precision (mc)",
+        lambda: [work_precision(scene, cells) for scene in WORK_PRECISION_SCENES],
+    )
+    report["paper_scene"] = section("(c) paper scene", paper_scene)
     if pyclaw_available():
-        report["pyclaw"] = pyclaw_rows(sizes[:3], cells, target)
-        ours = {
-            r["n_cells"]: r["cell_updates_per_s"]
-            for r in report["throughput"]
-            if r["model"] == "shallow-water"
-        }
-        for row in report["pyclaw"]["throughput"]:
-            print(
-                f"  N={row['n_cells']}: conslaw / PyClaw cell-update rate = "
-                f"{ours[row['n_cells']] / row['cell_updates_per_s']:.2f}"
-            )
-        mine = report["work_precision"][0]
-        for key in ("time_to_1e-3", "time_to_1e-4"):
-            theirs = report["pyclaw"]["work_precision"][key]
-            if mine[key] and theirs:
-                print(
-                    f"  dam-break-wet {key}: conslaw {mine[key]:.4f} s, "
-                    f"PyClaw {theirs:.4f} s, ratio {mine[key] / theirs:.2f}"
-                )
+
+        def run_pyclaw() -> dict[str, Any]:
+            return {
+                "throughput": {
+                    problem: pyclaw_throughput(problem, sizes, target)
+                    for problem in ("dam-break-wet", "burgers-sine")
+                },
+                "work_precision": {
+                    problem: pyclaw_work_precision(problem, cells)
+                    for problem in ("dam-break-wet", "burgers-riemann")
+                },
+                "not_run": {
+                    "dam-break-dry": "PyClaw's 1D shallow-water Riemann solvers (Roe, HLLE, "
+                    "f-wave) give NaN on an exactly dry bed"
+                },
+            }
+
+        report["pyclaw"] = section("(d) PyClaw", run_pyclaw)
+        print("ratios (same run)")
+        report["ratios"] = ratios(report)
     else:
-        print("  skipped: clawpack is not installed (pip install clawpack, needs gfortran)")
+        print("(d) PyClaw skipped: clawpack is not installed (pip install clawpack)")
         report["pyclaw"] = None
+    report["memory"] = section("(e) memory", memory)
     if args.json:
         with open(args.json, "w") as handle:
             json.dump(report, handle, indent=2)
+        print(f"  wrote {args.json}")
+    if args.plot:
+        plot_work_precision(report, args.plot)
 
 
 if __name__ == "__main__":

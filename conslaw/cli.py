@@ -1,4 +1,5 @@
-"""The ``conslaw`` command: ``list``, ``show``, ``run``.
+"""The ``conslaw`` command: ``list``, ``show``, ``run``, ``convergence``, ``compare``,
+``reproduce``.
 
 Errors in the input become one line on stderr and exit code 2, without a traceback.
 """
@@ -90,11 +91,27 @@ class _ProgressBar:
     def close(self) -> None:
         if self.enabled:
             sys.stdout.write("\n")
+            self.enabled = False
+
+
+class _SignalInterrupt(KeyboardInterrupt):
+    """SIGTERM (or SIGHUP) turned into a KeyboardInterrupt, so a run stops as on Ctrl-C."""
+
+    def __init__(self, signal_number: int) -> None:
+        super().__init__(signal_number)
+        self.signal_number = signal_number
+
+
+def _raise_interrupt(signal_number: int, frame: Any) -> None:
+    raise _SignalInterrupt(signal_number)
 
 
 def _command_run(args: argparse.Namespace) -> int:
+    import signal
+
     from conslaw.config import load_scene
-    from conslaw.io import check_output_dir, write_run
+    from conslaw.errors import ConslawError, RunInterrupted
+    from conslaw.io import RunWriter, check_output_dir
     from conslaw.simulation import simulate
 
     scene = load_scene(args.scene, _overrides(args.set))
@@ -104,14 +121,41 @@ def _command_run(args: argparse.Namespace) -> int:
         scene = replace(scene, plot=False)
     out = Path(args.out) if args.out else Path("conslaw-output") / scene.name
     check_output_dir(out)
+    writer = RunWriter(out, scene)
     bar = _ProgressBar(scene.t_end)
+    signals = [s for s in ("SIGTERM", "SIGHUP") if hasattr(signal, s)]
+    previous = {name: signal.signal(getattr(signal, name), _raise_interrupt) for name in signals}
     try:
-        result = simulate(scene, progress=bar)
+        result = simulate(scene, progress=bar, on_output=writer)
+    except RunInterrupted as interrupted:
+        bar.close()
+        if writer.last_time != interrupted.last_output:  # the signal came as it finished one
+            interrupted = RunInterrupted(
+                interrupted.t, interrupted.steps, writer.last_time, interrupted.signal_number
+            )
+        where = f" in {out}" if writer.last_time is not None else ""
+        sys.stderr.write(f"conslaw: {interrupted}{where}\n")
+        return 128 + interrupted.signal_number
+    except ConslawError as failure:
+        if writer.last_time is None:
+            raise
+        bar.close()
+        kept = f"outputs up to t={writer.last_time:.6g} are complete in {out}"
+        raise type(failure)(f"{failure}; {kept}") from None
     finally:
         bar.close()
-    files = write_run(result, out)
+        for name, handler in previous.items():
+            signal.signal(getattr(signal, name), handler)
+    try:
+        files = writer.finish(result)
+    except KeyboardInterrupt:
+        sys.stderr.write(
+            f"conslaw: interrupted while drawing the figures after the run reached "
+            f"t={result.final.t:g} ({result.steps} steps); every output is complete in {out}\n"
+        )
+        return 130
     print(
-        f"{scene.name}: {scene.model}, {scene.scheme}, {scene.reconstructor}, "
+        f"{scene.name}: {scene.model}, {scene.scheme}, {scene.reconstructor_label}, "
         f"N={scene.n_cells}, t={result.final.t:g}, {result.steps} steps, "
         f"solve {result.solve_seconds:.3f} s (compile or cache load {result.compile_seconds:.2f} s)"
     )
@@ -162,6 +206,40 @@ def _command_convergence(args: argparse.Namespace) -> int:
     return 0
 
 
+def _command_reproduce(args: argparse.Namespace) -> int:
+    from conslaw.io import check_output_dir
+    from conslaw.reproduce import reproduce_paper
+
+    out = Path(args.out) if args.out else Path("conslaw-output") / "paper"
+    check_output_dir(out)
+    started = time.perf_counter()
+    files = reproduce_paper(out)
+    for path in files:
+        print(f"wrote {path}")
+    print(f"reproduce {args.target}: {time.perf_counter() - started:.1f} s")
+    return 0
+
+
+def _command_compare(args: argparse.Namespace) -> int:
+    from conslaw.comparison import compare, write_comparison
+    from conslaw.errors import ConfigError
+    from conslaw.io import check_output_dir
+
+    schemes = _names(args.scheme) or []
+    if not schemes:
+        raise ConfigError(
+            "--scheme: expected comma-separated schemes, e.g. nessyahu-tadmor,lagrangian"
+        )
+    out = Path(args.out) if args.out else Path("conslaw-output") / "compare"
+    check_output_dir(out)
+    comparison = compare(args.scene, schemes, _overrides(args.set))
+    print(comparison.table())
+    print(comparison.notes())
+    for path in write_comparison(comparison, out):
+        print(f"wrote {path}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser (exposed for the documentation)."""
     parser = _Parser(prog="conslaw", description="Hyperbolic conservation laws in 1D.")
@@ -179,7 +257,7 @@ def build_parser() -> argparse.ArgumentParser:
         )
         if name == "run":
             sub.add_argument("--out", help="output folder (default conslaw-output/SCENE)")
-            sub.add_argument("--no-plot", action="store_true", help="do not write the PNG")
+            sub.add_argument("--no-plot", action="store_true", help="do not draw the figures (PNG)")
     study = commands.add_parser(
         "convergence", help="errors, observed orders and run times over a list of N"
     )
@@ -192,6 +270,27 @@ def build_parser() -> argparse.ArgumentParser:
     study.add_argument("--repeats", type=int, default=3, help="solves per N (median reported)")
     study.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     study.add_argument("--out", help="output folder (default conslaw-output/convergence)")
+    reproduce = commands.add_parser(
+        "reproduce", help="regenerate a paper's figures and a report of the errors"
+    )
+    reproduce.add_argument(
+        "target",
+        choices=["paper"],
+        help="paper: Tai et al. (2001), Figs. 3, 4 and 5 and the Lagrangian comparison",
+    )
+    reproduce.add_argument("--out", help="output folder (default conslaw-output/paper)")
+    versus = commands.add_parser(
+        "compare", help="one scene with several schemes: one figure, a table of errors and times"
+    )
+    versus.add_argument("scene", help="built-in scene name or path to a .toml file")
+    versus.add_argument(
+        "--scheme",
+        required=True,
+        help="comma-separated schemes, options after a colon, e.g. "
+        "nessyahu-tadmor,lagrangian,lagrangian:viscosity=0.02",
+    )
+    versus.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+    versus.add_argument("--out", help="output folder (default conslaw-output/compare)")
     return parser
 
 
@@ -204,6 +303,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         "show": _command_show,
         "run": _command_run,
         "convergence": _command_convergence,
+        "reproduce": _command_reproduce,
+        "compare": _command_compare,
     }
     try:
         return handlers[args.command](args)

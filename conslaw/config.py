@@ -27,6 +27,7 @@ DEFAULTS: dict[str, Any] = {
     "model": REQUIRED,
     "parameters": {},
     "scheme": "nessyahu-tadmor",
+    "scheme_options": {},
     "reconstructor": "mc",
     "cfl": 0.45,
     "front_tracking": False,
@@ -46,9 +47,12 @@ KEY_HELP: dict[str, str] = {
     "description": "one line shown by `conslaw list`",
     "model": "registered model name (`conslaw list`)",
     "parameters": "model parameters; a relative *_file path is looked up next to the scene first",
-    "scheme": "registered scheme name",
-    "reconstructor": "slope reconstruction: none, minmod, superbee, vanleer, mc, weno3, weno5",
-    "cfl": "target Courant number, 0 < cfl < 0.5 (paper eq. 17)",
+    "scheme": "registered scheme name: nessyahu-tadmor, lagrangian (`conslaw list`)",
+    "scheme_options": "table of the options the scheme declares (lagrangian: viscosity, "
+    "pressure; see Scheme options below)",
+    "reconstructor": "slope reconstruction (nessyahu-tadmor): none, minmod, superbee, vanleer, "
+    "mc, weno3, weno5",
+    "cfl": "target Courant number, 0 < cfl < 0.5 (paper eq. 17; lagrangian: its time-step factor)",
     "front_tracking": "track the margins of the body (NOC-FT, nessyahu-tadmor, models with depth)",
     "n_cells": "number of cells, integer >= 4",
     "x_min": "left end of the domain",
@@ -58,10 +62,15 @@ KEY_HELP: dict[str, str] = {
     "exact": "compare with the model's exact solution when it has one",
     "boundary": "table: left, right = a boundary name or { kind = ..., options }",
     "initial": "table: kind (piecewise-constant, sine) and its options",
-    "output": "table: formats (list, 'npz'), plot (bool)",
+    "output": (
+        "table: formats = files written at each output time, a list of npz (states.npz), "
+        "xdmf (solution.xdmf + HDF5), vtu (solution-NNNNN.vtu + solution.pvd), csv "
+        "(solution-NNNNN.csv, margins.csv); plot = PNG figures at the end (bool)"
+    ),
 }
 
-OUTPUT_FORMATS = ("npz",)
+#: File formats a scene may ask for (``output.formats``); see :mod:`conslaw.io`.
+OUTPUT_FORMATS = ("npz", "xdmf", "vtu", "csv")
 OUTPUT_KEYS = ("formats", "plot")
 
 
@@ -100,6 +109,25 @@ class Scene:
     output_formats: tuple[str, ...]
     plot: bool
     front_tracking: bool = False
+    scheme_options: Mapping[str, Any] = field(default_factory=dict)
+
+    @property
+    def scheme_label(self) -> str:
+        """The scheme with its options that differ from their defaults (and those it always
+        names), e.g. ``lagrangian(viscosity=0.02)``."""
+        declared = registry.schemes.get(self.scheme).options
+        shown = [
+            f"{key}={value!r}"
+            for key, value in self.scheme_options.items()
+            if key not in declared or declared[key].always_shown or value != declared[key].default
+        ]
+        return f"{self.scheme}({', '.join(shown)})" if shown else self.scheme
+
+    @property
+    def reconstructor_label(self) -> str:
+        """The reconstructor for reports, or "-" for a scheme that uses none."""
+        uses = getattr(registry.schemes.get(self.scheme), "uses_reconstructor", True)
+        return self.reconstructor if uses else "-"
 
     def to_table(self) -> dict[str, Any]:
         """The resolved scene as a TOML-ready mapping (written next to every output)."""
@@ -107,6 +135,7 @@ class Scene:
             "description": self.description,
             "model": self.model,
             "scheme": self.scheme,
+            **({"scheme_options": dict(self.scheme_options)} if self.scheme_options else {}),
             "reconstructor": self.reconstructor,
             "cfl": self.cfl,
             "front_tracking": self.front_tracking,
@@ -211,6 +240,15 @@ def _boundary_side(value: Any, side: str) -> BoundarySide:
     return BoundarySide(kind, options)
 
 
+def _scheme_options(value: Any, scheme: str) -> dict[str, Any]:
+    """The ``[scheme_options]`` table checked against the options ``scheme`` declares, with its
+    defaults filled in."""
+    if not isinstance(value, Mapping):
+        raise ConfigError(f"scene key 'scheme_options': expected a table, got {value!r}")
+    scheme_class = registry.schemes.get(scheme)
+    return dict(scheme_class.resolve_options(value))
+
+
 def _check_table(value: Any, key: str, allowed: tuple[str, ...]) -> Mapping[str, Any]:
     if not isinstance(value, Mapping):
         raise ConfigError(f"scene key '{key}': expected a table, got {value!r}")
@@ -250,6 +288,7 @@ def validate(name: str, raw: Mapping[str, Any], folder: Path | None = None) -> S
 
     model = _name(table, "model", registry.models)
     scheme = _name(table, "scheme", registry.schemes)
+    scheme_options = _scheme_options(table["scheme_options"], scheme)
     reconstructor = _name(table, "reconstructor", registry.reconstructors)
     if not isinstance(table["description"], str):
         raise ConfigError("scene key 'description': expected a string")
@@ -313,10 +352,13 @@ def validate(name: str, raw: Mapping[str, Any], folder: Path | None = None) -> S
     initial = InitialCondition.from_table(table["initial"], registry.models.get(model))
     output = _check_table(table["output"], "output", OUTPUT_KEYS)
     formats = output.get("formats", ["npz"])
-    if not isinstance(formats, list) or any(f not in OUTPUT_FORMATS for f in formats):
+    if not isinstance(formats, list) or any(
+        not isinstance(f, str) or f not in OUTPUT_FORMATS for f in formats
+    ):
         raise ConfigError(
             f"output.formats: expected a list of {', '.join(OUTPUT_FORMATS)}, got {formats!r}"
         )
+    formats = list(dict.fromkeys(formats))
     plot = output.get("plot", True)
     if not isinstance(plot, bool):
         raise ConfigError(f"output.plot: expected true or false, got {plot!r}")
@@ -340,6 +382,7 @@ def validate(name: str, raw: Mapping[str, Any], folder: Path | None = None) -> S
         output_formats=tuple(formats),
         plot=plot,
         front_tracking=front_tracking,
+        scheme_options=scheme_options,
     )
 
 
@@ -348,3 +391,52 @@ def load_scene(name_or_path: str | Path, overrides: Mapping[str, Any] | None = N
     name, path = scene_path(name_or_path)
     raw = read_scene_file(path)
     return validate(name, apply_overrides(raw, overrides or {}), path.parent)
+
+
+def parse_scheme_spec(spec: str) -> tuple[str, dict[str, Any]]:
+    """``"name"`` or ``"name:key=value:key=value"`` (a scheme with options, as in
+    ``--scheme nessyahu-tadmor,lagrangian:viscosity=0.02``) -> ``(name, options)``."""
+    name, *parts = str(spec).split(":")
+    options: dict[str, Any] = {}
+    for part in parts:
+        key, separator, value = part.partition("=")
+        if not separator or not key.strip():
+            raise ConfigError(f"--scheme: expected name or name:key=value, got '{spec}'")
+        options[key.strip()] = parse_value(value.strip())
+    if not name.strip():
+        raise ConfigError(f"--scheme: expected a scheme name, got '{spec}'")
+    return name.strip(), options
+
+
+def scheme_variants(
+    name_or_path: str | Path,
+    specs: list[str],
+    overrides: Mapping[str, Any] | None = None,
+) -> list[Scene]:
+    """One validated scene per scheme spec (:func:`parse_scheme_spec`), all else equal.
+
+    The scene's own ``[scheme_options]`` (after overrides) go to every variant whose scheme
+    declares them; a key that none of the schemes declares is an error. Options in a spec come
+    on top. Every variant is validated before any is returned.
+    """
+    name, path = scene_path(name_or_path)
+    raw = apply_overrides(read_scene_file(path), overrides or {})
+    base = raw.get("scheme_options", {})
+    if not isinstance(base, Mapping):
+        raise ConfigError(f"scene key 'scheme_options': expected a table, got {base!r}")
+    parsed = [parse_scheme_spec(spec) for spec in specs]
+    if not parsed:
+        raise ConfigError("--scheme: expected at least one scheme")
+    classes = [registry.schemes.get(scheme) for scheme, _ in parsed]
+    for key in base:
+        if not any(key in scheme_class.options for scheme_class in classes):
+            names = ", ".join(scheme for scheme, _ in parsed)
+            raise ConfigError(f"scheme_options.{key}: none of the schemes ({names}) has it")
+    variants = []
+    for (scheme, options), scheme_class in zip(parsed, classes, strict=True):
+        table = dict(raw)
+        table["scheme"] = scheme
+        kept = {key: value for key, value in base.items() if key in scheme_class.options}
+        table["scheme_options"] = {**kept, **options}
+        variants.append(validate(name, table, path.parent))
+    return variants

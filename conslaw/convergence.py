@@ -23,7 +23,7 @@ from pathlib import Path
 from typing import Any
 
 from conslaw.analysis import observed_orders
-from conslaw.config import Scene, load_scene
+from conslaw.config import Scene, load_scene, scheme_variants
 from conslaw.errors import ConfigError
 from conslaw.simulation import simulate
 
@@ -148,14 +148,16 @@ def convergence_study(
     variants: list[Scene] = []
     for scheme in schemes:
         for reconstructor in reconstructors:
-            variants.append(
-                load_scene(
-                    scene, {**(overrides or {}), "scheme": scheme, "reconstructor": reconstructor}
-                )
-            )
+            variant = scheme_variants(
+                scene, [scheme], {**(overrides or {}), "reconstructor": reconstructor}
+            )[0]
+            labels = (variant.scheme_label, variant.reconstructor_label)
+            # A scheme without a reconstructor is studied once, not once per reconstructor.
+            if labels not in {(v.scheme_label, v.reconstructor_label) for v in variants}:
+                variants.append(variant)
     study = ConvergenceStudy(str(base.name), base.t_end, repeats)
     for variant in variants:
-        key = f"{variant.scheme}/{variant.reconstructor}"
+        key = f"{variant.scheme_label}/{variant.reconstructor_label}"
         started = time.perf_counter()
         first = simulate(replace(variant, n_cells=cells[0], output_times=(variant.t_end,)))
         study.warmup_seconds[key] = time.perf_counter() - started
@@ -189,7 +191,7 @@ def convergence_study(
             )
             study.rows.append(
                 ConvergenceRow(
-                    variant.scheme, variant.reconstructor, n, result.steps,
+                    variant.scheme_label, variant.reconstructor_label, n, result.steps,
                     statistics.median(timings), min(timings), max(timings),
                     norms.l1, norms.l2, norms.linf, order, margin_errors[-1], order_margin,
                 )

@@ -9,6 +9,7 @@ from __future__ import annotations
 import difflib
 import math
 from collections.abc import Iterable
+from typing import Any
 
 
 class ConslawError(Exception):
@@ -24,7 +25,16 @@ class InadmissibleStateError(ConslawError, FloatingPointError):
 
 
 class SchemeBreakdownError(ConslawError, ArithmeticError):
-    """A scheme cannot continue (time step below its floor, crossing Lagrangian nodes, ...)."""
+    """A scheme cannot continue (time step below its floor, crossing Lagrangian nodes, ...).
+
+    ``state`` is the last good state when the scheme provides it; the runner adds
+    ``completed_states``, the states it had reached at the output times before the breakdown.
+    """
+
+    def __init__(self, message: str, state: Any = None) -> None:
+        super().__init__(message)
+        self.state = state
+        self.completed_states: list[Any] = []
 
 
 def unknown_name_message(kind: str, name: str, allowed: Iterable[str]) -> str:
@@ -41,3 +51,36 @@ def finite_number(value: object, label: str) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
         raise ConfigError(f"{label}: expected a finite number, got {value!r}")
     return float(value)
+
+
+class RunInterrupted(KeyboardInterrupt):
+    """A run stopped by a signal (Ctrl-C/SIGINT, SIGTERM) between two output times.
+
+    A ``KeyboardInterrupt``, so code that handles Ctrl-C keeps doing so. The message says where
+    the run stopped; the outputs written before (one file set per output time reached) are
+    complete.
+
+    Attributes
+    ----------
+    t : float
+        Time the solution had reached when the signal came.
+    steps : int
+        Time steps taken until then.
+    last_output : float or None
+        The last output time written (None if none was reached).
+    signal_number : int
+        The signal (``signal.SIGINT`` for Ctrl-C).
+    """
+
+    def __init__(self, t: float, steps: int, last_output: float | None, signal_number: int) -> None:
+        import signal
+
+        self.t, self.steps, self.last_output = t, steps, last_output
+        self.signal_number = signal_number
+        name = signal.Signals(signal_number).name
+        kept = (
+            "no output time was reached"
+            if last_output is None
+            else f"outputs up to t={last_output:.6g} are complete"
+        )
+        super().__init__(f"interrupted ({name}) at t={t:.6g}, step {steps}; {kept}")

@@ -1,25 +1,72 @@
-"""All file output: atomic writes of npz, TOML and PNG.
+"""All file output: npz, XDMF + HDF5 and VTU time series, CSV, TOML and PNG, written atomically.
 
 Every file is written under a temporary name in the destination folder and renamed into place, so
 a run that fails or is interrupted never leaves a half-written file, and files written earlier stay
-intact.
+intact. :class:`RunWriter` writes each output time as the run reaches it (it is the
+``on_output`` callback of :func:`conslaw.simulation.simulate`): after an interruption every
+output time reached before is complete and readable.
+
+What a run writes into its folder, by ``output.formats`` (nothing else):
+
+``npz``
+    ``states.npz``: every output so far (rewritten at each output time; see :func:`write_states`).
+``xdmf``
+    ``solution.xdmf`` (XDMF 3 temporal collection, for ParaView and
+    ``meshio.xdmf.TimeSeriesReader``), ``solution-mesh.h5`` (points and cells) and one
+    ``solution-NNNNN.h5`` per output time (the cell fields). meshio's own
+    ``TimeSeriesWriter`` writes the XML only when it is closed, so an interrupted run would leave
+    no readable series (and it puts the HDF5 file in the current folder, meshio issue #1442);
+    here each time's HDF5 file is complete before the small XML index is rewritten to list it.
+``vtu``
+    one ``solution-NNNNN.vtu`` per output time (through meshio) and ``solution.pvd``, the
+    ParaView collection with the times, rewritten after each.
+``csv``
+    one ``solution-NNNNN.csv`` per output time (``t``, ``x`` and every cell field) and, with
+    front tracking, ``margins.csv``.
+
+The mesh of a 1D run is the cell faces as points ``(x, 0, 0)`` and one line cell per grid cell.
+The cell fields (:func:`cell_fields`): the conserved variables, the primitive ones
+(``Model.primitive_fields``: ``h``, ``u`` for depth-averaged models), the model coefficients
+(``Model.coefficient_fields``: ``zeta`` in degrees, ``beta``, ``K``, ``lambda_kappa`` for
+Savage–Hutter; ``bed``, ``bed_slope`` for shallow water) and, where an exact solution applies,
+its cell averages (``h_exact``, ...). The time and, with front tracking, the margins
+(``x_rear``, ``u_rear``, ``x_front``, ``u_front``) are field data (one value per output): VTU
+``FieldData``, XDMF ``Information`` elements and datasets in the time's HDF5 file.
+Every run also writes ``scene.toml`` (the resolved scene) with its first output, and, with
+``output.plot``, the figures at the end.
 """
 
 from __future__ import annotations
 
 import io
 import os
+import re
+import signal
 import tempfile
+import threading
+import xml.etree.ElementTree as ET
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from conslaw import tomlwrite
 from conslaw.errors import ConfigError
+from conslaw.state import node_arrays
 
 if TYPE_CHECKING:
+    from conslaw.config import Scene
     from conslaw.simulation import RunResult
+
+Array = NDArray[np.float64]
+
+#: File stem of the time-series files (``solution.xdmf``, ``solution-00003.vtu``, ...).
+SERIES = "solution"
+#: Field-data names of the margins (one value per output time), as in ``margins.csv``.
+MARGIN_FIELDS = ("x_rear", "u_rear", "x_front", "u_front")
 
 
 def atomic_write_bytes(path: Path, data: bytes) -> Path:
@@ -64,10 +111,10 @@ def prepare_output_dir(folder: Path) -> Path:
     return folder
 
 
-def write_npz(path: Path, **arrays: Any) -> Path:
-    """Atomic ``numpy.savez_compressed``."""
+def write_npz(path: Path, compressed: bool = True, **arrays: Any) -> Path:
+    """Atomic ``numpy.savez_compressed`` (``numpy.savez`` with ``compressed=False``)."""
     buffer = io.BytesIO()
-    np.savez_compressed(buffer, **arrays)
+    (np.savez_compressed if compressed else np.savez)(buffer, **arrays)
     return atomic_write_bytes(path, buffer.getvalue())
 
 
@@ -94,52 +141,340 @@ def write_margins_csv(path: Path, margins: Any) -> Path:
     return atomic_write_bytes(path, ("\n".join(lines) + "\n").encode())
 
 
-def write_run(result: RunResult, folder: Path) -> list[Path]:
-    """Write the states (npz), the resolved scene (TOML) and, if asked, the profile plot (PNG).
+def mesh_points_cells(edges: Array) -> tuple[Array, NDArray[np.int64]]:
+    """The 1D mesh: the cell faces as points ``(x, 0, 0)``, shape ``(n + 1, 3)``, and one line
+    cell per grid cell, ``(n, 2)`` point indices."""
+    edges = np.asarray(edges, dtype=np.float64)
+    points = np.zeros((edges.size, 3))
+    points[:, 0] = edges
+    first = np.arange(edges.size - 1, dtype=np.int64)
+    return points, np.ascontiguousarray(np.stack([first, first + 1], axis=1))
 
-    ``states.npz`` holds ``t`` (n_out,), ``x`` (n,), ``q`` (n_out, n_vars, n), ``variables``,
-    ``edges``, and ``q_exact`` (exact cell averages, NaN where unknown); with front tracking also
+
+def cell_fields(result: RunResult, index: int) -> dict[str, Array]:
+    """Every cell field of output ``index``: conserved variables, primitive variables, model
+    coefficients (as the scheme uses them in that state) and exact cell averages
+    (``<variable>_exact``, only where an exact solution applies). A primitive or coefficient
+    field named like a conserved variable is the same quantity and is not repeated."""
+    state = result.states[index]
+    model = result.model
+    fields: dict[str, Array] = {name: state.q[v] for v, name in enumerate(model.variables)}
+    for name, values in model.primitive_fields(state.q).items():
+        fields.setdefault(name, values)
+    coefficients = result.scheme.cell_coefficients(state)
+    for name, values in model.coefficient_fields(state.x, coefficients).items():
+        fields.setdefault(name, values)
+    exact = result.exact[index]
+    if exact is not None:
+        for v, name in enumerate(model.variables):
+            fields[f"{name}_exact"] = exact[v]
+    return {name: np.ascontiguousarray(values, dtype=np.float64) for name, values in fields.items()}
+
+
+def output_field_data(result: RunResult, index: int) -> dict[str, float]:
+    """One value per output: ``time`` and, with front tracking, the margins that exist
+    (:data:`MARGIN_FIELDS`)."""
+    state = result.states[index]
+    data = {"time": state.t}
+    if state.margins is not None:
+        row = state.margins.row(state.t)[1:]
+        data.update({n: v for n, v in zip(MARGIN_FIELDS, row, strict=True) if v == v})
+    return data
+
+
+def write_states(path: Path, result: RunResult, compressed: bool = True) -> Path:
+    """``states.npz`` of the outputs so far (``compressed=False``: stored without compression,
+    as during a run, where it is rewritten at every output time).
+
+    Keys: ``t`` (n_out,), ``x`` (n,), ``edges`` (n + 1,), ``q`` (n_out, n_vars, n),
+    ``q_exact`` (exact cell averages, NaN where unknown), ``variables``; with front tracking also
     ``margins`` (rows ``t, x_rear, u_rear, x_front, u_front`` after every step, NaN for a margin
-    that does not exist), which is also written as ``margins.csv`` and plotted in
-    ``margins.png``.
+    that does not exist); with the Lagrangian scheme also its own mesh at the output times:
+    ``nodes`` and ``node_velocities`` (n_out, n_elements + 1) and ``element_depths``
+    (n_out, n_elements) (``q`` is then the conservative projection of the elements onto the
+    grid).
     """
-    folder = prepare_output_dir(folder)
-    written = []
-    scene = result.scene
-    if "npz" in scene.output_formats:
-        exact = np.array(
-            [
-                e if e is not None else np.full_like(s.q, np.nan)
-                for e, s in zip(result.exact, result.states, strict=True)
-            ]
-        )
-        written.append(
-            write_npz(
-                folder / "states.npz",
-                t=np.array([s.t for s in result.states]),
-                x=result.grid.centres(),
-                edges=result.grid.edges,
-                q=np.array([s.q for s in result.states]),
-                q_exact=exact,
-                variables=np.array(result.model.variables),
-                **({} if result.margins is None else {"margins": result.margins}),
+    exact = np.array(
+        [
+            e if e is not None else np.full_like(s.q, np.nan)
+            for e, s in zip(result.exact, result.states, strict=True)
+        ]
+    )
+    return write_npz(
+        path,
+        compressed,
+        t=np.array([s.t for s in result.states]),
+        x=result.grid.centres(),
+        edges=result.grid.edges,
+        q=np.array([s.q for s in result.states]),
+        q_exact=exact,
+        variables=np.array(result.model.variables),
+        **({} if result.margins is None else {"margins": result.margins}),
+        **node_arrays(result.states),
+    )
+
+
+def write_h5(path: Path, datasets: dict[str, Any]) -> Path:
+    """Atomic HDF5 file with one dataset per entry (built in memory, then renamed into place)."""
+    import h5py
+
+    buffer = io.BytesIO()
+    with h5py.File(buffer, "w") as handle:
+        for name, values in datasets.items():
+            handle.create_dataset(name, data=values)
+    return atomic_write_bytes(path, buffer.getvalue())
+
+
+def _data_item(parent: ET.Element, values_shape: tuple[int, ...], kind: str, text: str) -> None:
+    item = ET.SubElement(
+        parent,
+        "DataItem",
+        DataType=kind,
+        Dimensions=" ".join(str(d) for d in values_shape),
+        Format="HDF",
+        Precision="8",
+    )
+    item.text = text
+
+
+def xdmf_document(
+    mesh_file: str, n_cells: int, entries: list[tuple[float, str, list[str], dict[str, float]]]
+) -> bytes:
+    """The XDMF 3 index of a series: one uniform grid ``mesh`` (topology and geometry in
+    ``mesh_file``) and a temporal collection with one grid per ``(t, data file, cell field
+    names, field data)`` entry, each field a cell-centred attribute in the data file and the
+    field data as ``Information`` elements."""
+    root = ET.Element("Xdmf", Version="3.0")
+    root.set("xmlns:xi", "http://www.w3.org/2001/XInclude")
+    domain = ET.SubElement(root, "Domain")
+    mesh = ET.SubElement(domain, "Grid", Name="mesh", GridType="Uniform")
+    topology = ET.SubElement(
+        mesh, "Topology", TopologyType="Polyline", NodesPerElement="2",
+        NumberOfElements=str(n_cells),
+    )  # fmt: skip
+    _data_item(topology, (n_cells, 2), "Int", f"{mesh_file}:/cells")
+    geometry = ET.SubElement(mesh, "Geometry", GeometryType="XYZ")
+    _data_item(geometry, (n_cells + 1, 3), "Float", f"{mesh_file}:/points")
+    series = ET.SubElement(
+        domain, "Grid", Name=SERIES, GridType="Collection", CollectionType="Temporal"
+    )
+    pointer = 'xpointer(//Grid[@Name="mesh"]/*[self::Topology or self::Geometry])'
+    for t, data_file, names, data in entries:
+        grid = ET.SubElement(series, "Grid", Name=f"t={t!r}", GridType="Uniform")
+        ET.SubElement(grid, "xi:include", xpointer=pointer)
+        ET.SubElement(grid, "Time", Value=repr(float(t)))
+        for name in names:
+            attribute = ET.SubElement(
+                grid, "Attribute", Name=name, AttributeType="Scalar", Center="Cell"
             )
-        )
-    if result.margins is not None:
-        written.append(write_margins_csv(folder / "margins.csv", result.margins))
-    written.append(write_toml(folder / "scene.toml", scene.to_table()))
-    if scene.plot:
-        import matplotlib.pyplot as plt
+            _data_item(attribute, (n_cells,), "Float", f"{data_file}:/{name}")
+        for name, value in data.items():
+            ET.SubElement(grid, "Information", Name=name, Value=repr(float(value)))
+    ET.indent(root)
+    return ET.tostring(root, encoding="utf-8", xml_declaration=True) + b"\n"
 
-        from conslaw.plotting import chute_figure, margins_figure, profiles_figure
 
-        figures = [("profiles.png", profiles_figure)]
-        if result.margins is not None:
-            figures.append(("margins.png", margins_figure))
-        if getattr(result.model, "chute", None) is not None:
-            figures.append(("chute.png", chute_figure))
-        for name, build in figures:
-            figure = build(result)
-            written.append(write_figure(folder / name, figure))
-            plt.close(figure)
+def vtu_bytes(
+    points: Array, cells: NDArray[np.int64], fields: dict[str, Array], data: dict[str, float]
+) -> bytes:
+    """A VTU file (meshio, binary, zlib) of line cells with the cell ``fields`` and the field
+    ``data`` (meshio 5.3 does not write field data, meshio issue #1546: added here as ASCII
+    ``FieldData`` arrays, which meshio and ParaView read)."""
+    import meshio
+
+    mesh = meshio.Mesh(points, [("line", cells)], cell_data={k: [v] for k, v in fields.items()})
+    with tempfile.TemporaryDirectory(prefix="conslaw-vtu-") as scratch:
+        path = Path(scratch) / "mesh.vtu"
+        meshio.write(path, mesh, file_format="vtu")
+        root = ET.fromstring(path.read_bytes())
+    grid = root.find("UnstructuredGrid")
+    assert grid is not None
+    field_data = ET.Element("FieldData")
+    for name, value in data.items():
+        array = ET.SubElement(
+            field_data, "DataArray", type="Float64", Name=name, NumberOfTuples="1",
+            format="ascii",
+        )  # fmt: skip
+        array.text = repr(float(value))
+    grid.insert(0, field_data)
+    return ET.tostring(root, encoding="utf-8", xml_declaration=True)
+
+
+def pvd_document(entries: list[tuple[float, str]]) -> bytes:
+    """A ParaView collection (``.pvd``) of ``(time, file)`` entries."""
+    root = ET.Element("VTKFile", type="Collection", version="0.1", byte_order="LittleEndian")
+    collection = ET.SubElement(root, "Collection")
+    for t, name in entries:
+        ET.SubElement(collection, "DataSet", timestep=repr(float(t)), part="0", file=name)
+    ET.indent(root)
+    return ET.tostring(root, encoding="utf-8", xml_declaration=True) + b"\n"
+
+
+def fields_csv(t: float, x: Array, fields: dict[str, Array]) -> bytes:
+    """CSV of one output time: columns ``t``, ``x`` and every field, one row per cell, numbers
+    written with 17 significant digits (read back exactly)."""
+    table = np.column_stack([np.full(x.shape, t), x, *fields.values()])
+    buffer = io.StringIO()
+    np.savetxt(buffer, table, fmt="%.17g", delimiter=",")
+    return (",".join(["t", "x", *fields]) + "\n" + buffer.getvalue()).encode()
+
+
+#: Names of the files conslaw writes into a run folder (at the end of a run, those it did not
+#: write this time are left over from an earlier run into the same folder, and removed).
+_OWN_FILE = re.compile(
+    rf"^({SERIES}(-(\d{{5}}|mesh)\.(h5|vtu|csv)|\.xdmf|\.pvd)"
+    r"|states\.npz|margins\.csv|(profiles|margins|chute|xt)\.png)$"
+)
+
+
+@contextmanager
+def signals_held() -> Iterator[None]:
+    """Hold SIGINT, SIGTERM and SIGHUP while one output time is written, so that an
+    interruption lands between output times and every format holds the same ones; a signal that
+    came meanwhile is handed to its previous handler on leaving (only in the main thread, where
+    Python runs signal handlers)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    pending: list[int] = []
+
+    def hold(number: int, frame: Any) -> None:
+        pending.append(number)
+
+    names = ("SIGINT", "SIGTERM", "SIGHUP")
+    numbers = [getattr(signal, n) for n in names if hasattr(signal, n)]
+    previous = {number: signal.signal(number, hold) for number in numbers}
+    try:
+        yield
+    finally:
+        for number, handler in previous.items():
+            signal.signal(number, handler)
+        for number in pending[:1]:
+            handler = previous[number]
+            if callable(handler):
+                handler(number, None)
+            elif handler == signal.SIG_DFL:
+                signal.raise_signal(number)
+
+
+class RunWriter:
+    """Writes a run's files as the run reaches each output time.
+
+    Pass it as ``on_output`` to :func:`conslaw.simulation.simulate` and call :meth:`finish` at
+    the end (figures, removal of series files an earlier run left behind). The folder is made
+    with the first output, so a run that fails before writes nothing. See the module docstring
+    for the files of every format.
+    """
+
+    def __init__(self, folder: Path, scene: Scene) -> None:
+        self.folder = Path(folder)
+        self.scene = scene
+        self.formats = scene.output_formats
+        self.last_time: float | None = None
+        self._files: dict[Path, None] = {}
+        self._mesh: tuple[Array, NDArray[np.int64]] | None = None
+        self._xdmf: list[tuple[float, str, list[str], dict[str, float]]] = []
+        self._pvd: list[tuple[float, str]] = []
+
+    @property
+    def files(self) -> list[Path]:
+        """Every file written so far, in the order first written."""
+        return list(self._files)
+
+    def _wrote(self, path: Path) -> None:
+        self._files.pop(path, None)
+        self._files[path] = None
+
+    def __call__(self, result: RunResult) -> None:
+        """Write the newest output of ``result`` (its last state) and the files holding the
+        whole history (``states.npz``, ``margins.csv``)."""
+        with signals_held():
+            self.output(result, len(result.states) - 1)
+            self.history(result)
+            self.last_time = result.states[-1].t
+
+    def output(self, result: RunResult, index: int) -> None:
+        """The series files of output ``index`` (XDMF/HDF5, VTU, CSV), then their indexes."""
+        if not self._files:
+            prepare_output_dir(self.folder)
+            self._wrote(write_toml(self.folder / "scene.toml", self.scene.to_table()))
+        if not {"xdmf", "vtu", "csv"} & set(self.formats):
+            return
+        state = result.states[index]
+        fields = cell_fields(result, index)
+        data = output_field_data(result, index)
+        stem = f"{SERIES}-{index:05d}"
+        if self._mesh is None:
+            self._mesh = mesh_points_cells(result.grid.edges)
+        points, cells = self._mesh
+        if "xdmf" in self.formats:
+            mesh_file = f"{SERIES}-mesh.h5"
+            if not self._xdmf:
+                self._wrote(write_h5(self.folder / mesh_file, {"points": points, "cells": cells}))
+            self._wrote(write_h5(self.folder / f"{stem}.h5", {**fields, **data}))
+            self._xdmf.append((state.t, f"{stem}.h5", list(fields), data))
+            document = xdmf_document(mesh_file, cells.shape[0], self._xdmf)
+            self._wrote(atomic_write_bytes(self.folder / f"{SERIES}.xdmf", document))
+        if "vtu" in self.formats:
+            vtu = atomic_write_bytes(
+                self.folder / f"{stem}.vtu", vtu_bytes(points, cells, fields, data)
+            )
+            self._wrote(vtu)
+            self._pvd.append((state.t, vtu.name))
+            pvd = pvd_document(self._pvd)
+            self._wrote(atomic_write_bytes(self.folder / f"{SERIES}.pvd", pvd))
+        if "csv" in self.formats:
+            table = fields_csv(state.t, state.x, fields)
+            self._wrote(atomic_write_bytes(self.folder / f"{stem}.csv", table))
+
+    def history(self, result: RunResult, final: bool = False) -> None:
+        """``states.npz`` (npz) and ``margins.csv`` (csv, front tracking) of the outputs so far.
+
+        ``states.npz`` holds every output so far, so it is rewritten at every output time:
+        uncompressed during the run (a copy at memory speed; the cost still grows with the
+        number of outputs times the grid, so for very many output times of a large grid prefer
+        xdmf or vtu, whose cost per output is fixed), compressed once at the end (``final``)."""
+        if "npz" in self.formats:
+            self._wrote(write_states(self.folder / "states.npz", result, compressed=final))
+        if "csv" in self.formats and result.margins is not None:
+            self._wrote(write_margins_csv(self.folder / "margins.csv", result.margins))
+
+    def finish(self, result: RunResult) -> list[Path]:
+        """The figures (with ``output.plot``), and removal of the files an earlier run into the
+        same folder left with conslaw's output names that this run did not write (a shorter
+        run, other formats; other files are not touched); returns every file written."""
+        if not self._files:
+            return []
+        with signals_held():
+            self.history(result, final=True)
+        if self.scene.plot:
+            for path in write_figures(result, self.folder):
+                self._wrote(path)
+        for entry in self.folder.iterdir():
+            if _OWN_FILE.match(entry.name) and entry not in self._files:
+                entry.unlink(missing_ok=True)
+        return self.files
+
+
+def write_figures(result: RunResult, folder: Path) -> list[Path]:
+    """``profiles.png``; with front tracking ``margins.png``; on a chute ``chute.png``; with at
+    least :data:`conslaw.plotting.XT_MIN_OUTPUTS` output times ``xt.png`` (x–t diagram)."""
+    import matplotlib.pyplot as plt
+
+    from conslaw.plotting import figures_for
+
+    written = []
+    for name, build in figures_for(result):
+        figure = build(result)
+        written.append(write_figure(folder / name, figure))
+        plt.close(figure)
     return written
+
+
+def write_run(result: RunResult, folder: Path) -> list[Path]:
+    """Write every file of a finished run at once (what :class:`RunWriter` writes during a
+    run): the formats of ``output.formats``, the resolved scene and the figures."""
+    writer = RunWriter(folder, result.scene)
+    for index in range(len(result.states)):
+        writer.output(result, index)
+    return writer.finish(result)

@@ -181,6 +181,21 @@ class Model(ABC):
         """Depth below which a cell counts as dry (velocity 0); 0 for models without depth."""
         return 0.0
 
+    def primitive_fields(self, q: Array) -> dict[str, Array]:
+        """Primitive variables of every column of ``q`` by name, for output files and plots.
+
+        Default: the conserved variables themselves. A depth-averaged model returns the depth
+        and the velocity (see :class:`conslaw_models.depth_averaged.DepthAveragedModel`).
+        """
+        return {name: np.asarray(q[v]) for v, name in enumerate(self.variables)}
+
+    def coefficient_fields(self, x: Array, coefficients: Array) -> dict[str, Array]:
+        """Named per-cell coefficients for output files, from the cell centres ``x`` and the
+        coefficients the scheme uses there (``(n_aux, n)``, see
+        :meth:`conslaw.schemes.base.Scheme.cell_coefficients`). Default: the rows of
+        :meth:`aux` by :attr:`aux_names`."""
+        return {name: np.asarray(coefficients[i]) for i, name in enumerate(self.aux_names)}
+
     def parameter_dict(self) -> dict[str, Any]:
         """The parameters as a plain dictionary (for the resolved scene file)."""
         return dataclasses.asdict(self.params)

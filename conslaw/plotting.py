@@ -1,7 +1,9 @@
-"""Plots of runs: profiles at the output times against the exact solution."""
+"""Plots of runs and studies: profiles against the exact solution, the x–t diagram, margin
+trajectories, the chute in elevation with the flowing mass, work-precision plots."""
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING, Any
 
 import matplotlib
@@ -26,18 +28,46 @@ def _display_rows(model: Any, q: Any) -> list[tuple[str, Any]]:
     return [(model.variables[d], h), ("u", u)]
 
 
-def profiles_figure(result: RunResult) -> Any:
-    """Profiles at every output time (markers) against the exact solution (black line):
-    the conserved variables, or depth and velocity for a depth-averaged model (paper Fig. 4)."""
+#: Output times from which ``conslaw run`` also draws the x–t diagram (``xt.png``).
+XT_MIN_OUTPUTS = 10
+#: Grids up to this many cells are drawn with open circles (one per cell), finer ones with dots.
+COARSE_GRID = 200
+#: Most profiles drawn in one figure (evenly chosen among the output times beyond that).
+MAX_PROFILES = 6
+
+
+def select_states(
+    result: RunResult, times: Sequence[float] | None = None, at_most: int = MAX_PROFILES
+) -> list[Any]:
+    """The output states at ``times`` (the nearest output time to each), or, without
+    ``times``, at most ``at_most`` of them evenly spread, the first and last included."""
+    states = result.states
+    if times is None:
+        if len(states) <= at_most:
+            return list(states)
+        picks = np.unique(np.round(np.linspace(0, len(states) - 1, at_most)).astype(int))
+        return [states[k] for k in picks]
+    t = np.array([s.t for s in states])
+    return [states[int(np.argmin(np.abs(t - wanted)))] for wanted in times]
+
+
+def profiles_figure(result: RunResult, times: Sequence[float] | None = None) -> Any:
+    """Profiles at the output times (markers) against the exact solution (black line):
+    the conserved variables, or depth and velocity for a depth-averaged model (paper Figs. 4
+    and 5). ``times`` selects the output times drawn (see :func:`select_states`)."""
     model = result.model
     rows = len(_display_rows(model, result.states[0].q))
     figure, axes = plt.subplots(rows, 1, figsize=(8, 3.2 * rows), sharex=True, squeeze=False)
-    colours = plt.cm.viridis(np.linspace(0.0, 0.85, len(result.states)))
+    shown = select_states(result, times)
+    colours = plt.cm.viridis(np.linspace(0.0, 0.85, len(shown)))
     fine = np.linspace(result.grid.x_min, result.grid.x_max, 4001)
-    for state, colour in zip(result.states, colours, strict=True):
+    # Open circles as in the paper where the cells can be told apart, dots on fine grids.
+    coarse = result.grid.n_cells <= COARSE_GRID
+    marker = {"ms": 4.5, "mfc": "none", "mew": 0.9} if coarse else {"ms": 2.5}
+    for state, colour in zip(shown, colours, strict=True):
         label = f"{result.scene.scheme}, t={state.t:g}"
         for axis, (name, values) in zip(axes[:, 0], _display_rows(model, state.q), strict=True):
-            axis.plot(state.x, values, "o", ms=2.5, color=colour, label=label)
+            axis.plot(state.x, values, "o", color=colour, label=label, **marker)
             axis.set_ylabel(name)
         if result.exact_solution is not None:
             exact = result.exact_solution.point_values(fine, state.t)
@@ -49,7 +79,7 @@ def profiles_figure(result: RunResult) -> Any:
                     values,
                     "k-",
                     lw=0.9,
-                    label="exact" if state is result.states[-1] else None,
+                    label="exact" if state is shown[-1] else None,
                 )
     for axis in axes[:, 0]:
         axis.grid(alpha=0.3)
@@ -58,7 +88,7 @@ def profiles_figure(result: RunResult) -> Any:
     error = result.headline_error()
     subtitle = f", L1 error {error:.3e}" if error is not None else ""
     axes[0, 0].set_title(
-        f"{result.scene.name}: {model.name}, {result.scene.reconstructor}"
+        f"{result.scene.name}: {model.name}, {result.scene.reconstructor_label}"
         f"{' + front tracking' if result.scene.front_tracking else ''}, "
         f"N={result.grid.n_cells}{subtitle}",
         fontsize=10,
@@ -67,18 +97,21 @@ def profiles_figure(result: RunResult) -> Any:
     return figure
 
 
-def chute_figure(result: RunResult, exaggeration: float = 3.0) -> Any:
-    """Paper Fig. 3 style: one panel per output time, the chute drawn in elevation (not arc
-    length) and the flowing mass on it, its depth laid off normal to the bed and exaggerated by
-    ``exaggeration`` so that it is visible against the chute."""
+def chute_figure(
+    result: RunResult, times: Sequence[float] | None = None, exaggeration: float = 3.0
+) -> Any:
+    """Paper Fig. 3 style: one panel per output time (``times``, see :func:`select_states`),
+    the chute drawn in elevation (not arc length) and the flowing mass on it, its depth laid off
+    normal to the bed and exaggerated by ``exaggeration`` so that it is visible."""
     model = result.model
     chute = getattr(model, "chute")  # noqa: B009 (only models with a chute get this figure)
     x = result.grid.centres()
     horizontal, vertical = chute.elevation_profile(x)
     angle = chute.zeta(x)
-    count = len(result.states)
+    shown = select_states(result, times)
+    count = len(shown)
     figure, axes = plt.subplots(count, 1, figsize=(9, 1.6 * count), sharex=True, squeeze=False)
-    for axis, state in zip(axes[:, 0], result.states, strict=True):
+    for axis, state in zip(axes[:, 0], shown, strict=True):
         h = exaggeration * state.q[model.depth_index]
         top_x = horizontal - h * np.sin(angle)
         top_z = vertical + h * np.cos(angle)
@@ -92,7 +125,7 @@ def chute_figure(result: RunResult, exaggeration: float = 3.0) -> Any:
         axis.text(0.98, 0.85, f"t = {state.t:g}", transform=axis.transAxes, ha="right", fontsize=9)
     axes[-1, 0].set_xlabel("horizontal position")
     axes[0, 0].set_title(
-        f"{result.scene.name}: {model.name}, {result.scene.reconstructor}, "
+        f"{result.scene.name}: {model.name}, {result.scene.reconstructor_label}, "
         f"N={result.grid.n_cells} (depth drawn x{exaggeration:g}, normal to the bed)",
         fontsize=10,
     )
@@ -177,3 +210,52 @@ def margins_figure(result: RunResult) -> Any:
     position_axis.set_title(f"{result.scene.name}: tracked margins")
     figure.tight_layout()
     return figure
+
+
+def xt_figure(result: RunResult) -> Any:
+    """x–t diagram of the depth (or of the first variable): colour = value in every cell at
+    every output time, so a shock shows as a line across which the colour jumps; tracked
+    margins drawn on top. Needs enough output times to resolve the motion (``output_times``)."""
+    model = result.model
+    row = model.depth_index if model.depth_index is not None else 0
+    t = np.array([s.t for s in result.states])
+    values = np.array([s.q[row] for s in result.states])
+    # Each output time owns the band up to half-way to its neighbours.
+    if t.size < 2:
+        raise ValueError("an x-t diagram needs at least two output times")
+    middles = 0.5 * (t[1:] + t[:-1])
+    t_edges = np.concatenate(
+        [[t[0] - (middles[0] - t[0])], middles, [t[-1] + (t[-1] - middles[-1])]]
+    )
+    figure, axis = plt.subplots(figsize=(8, 5.5))
+    mesh = axis.pcolormesh(result.grid.edges, t_edges, values, cmap="viridis", shading="flat")
+    figure.colorbar(mesh, ax=axis, label=model.variables[row])
+    if result.margins is not None:
+        for column, name in ((1, "rear margin"), (3, "front margin")):
+            if not np.all(np.isnan(result.margins[:, column])):
+                axis.plot(result.margins[:, column], result.margins[:, 0], "w-", lw=1.0, label=name)
+        axis.legend(fontsize=8, loc="upper left")
+    axis.set_xlabel("x (along the bed)")
+    axis.set_ylabel("t")
+    axis.set_ylim(t[0], t[-1])
+    axis.set_title(
+        f"{result.scene.name}: {model.variables[row]}(x, t), {result.scene.reconstructor}, "
+        f"N={result.grid.n_cells}, {len(t)} output times",
+        fontsize=10,
+    )
+    figure.tight_layout()
+    return figure
+
+
+def figures_for(result: RunResult) -> list[tuple[str, Callable[[RunResult], Any]]]:
+    """The figures of a run: ``profiles.png``; ``margins.png`` with front tracking;
+    ``chute.png`` for a model on a chute; ``xt.png`` with at least :data:`XT_MIN_OUTPUTS`
+    output times."""
+    figures: list[tuple[str, Callable[[RunResult], Any]]] = [("profiles.png", profiles_figure)]
+    if result.margins is not None:
+        figures.append(("margins.png", margins_figure))
+    if getattr(result.model, "chute", None) is not None:
+        figures.append(("chute.png", chute_figure))
+    if len(result.states) >= XT_MIN_OUTPUTS:
+        figures.append(("xt.png", xt_figure))
+    return figures

@@ -14,12 +14,15 @@ from collections.abc import Callable, Iterator
 from importlib import resources
 from importlib.metadata import entry_points
 from pathlib import Path
-from typing import Any, Generic, TypeVar
+from typing import TYPE_CHECKING, Any, Generic, TypeVar
 
 from conslaw.boundary import BoundaryCondition, builtin_boundary_conditions
 from conslaw.errors import ConfigError, ConslawError, unknown_name_message
 from conslaw.model import Model
 from conslaw.reconstruct import Reconstructor, builtin_reconstructors
+
+if TYPE_CHECKING:
+    from conslaw.schemes.base import Scheme
 
 T = TypeVar("T")
 
@@ -126,7 +129,7 @@ def check_model(name: str, obj: Any) -> type[Model]:
     return obj
 
 
-def check_scheme(name: str, obj: Any) -> type:
+def check_scheme(name: str, obj: Any) -> type[Scheme]:
     """A scheme must subclass Scheme and implement stable_dt and step."""
     from conslaw.schemes.base import Scheme
 
@@ -180,9 +183,10 @@ def check_scene(name: str, obj: Any) -> Path:
 
 
 def _builtin_schemes() -> list[tuple[str, Any]]:
+    from conslaw.schemes.lagrangian import LagrangianScheme
     from conslaw.schemes.nessyahu_tadmor import NessyahuTadmor
 
-    return [(NessyahuTadmor.name, NessyahuTadmor)]
+    return [(NessyahuTadmor.name, NessyahuTadmor), (LagrangianScheme.name, LagrangianScheme)]
 
 
 def _builtin_scenes() -> list[tuple[str, Any]]:
@@ -195,7 +199,9 @@ def _builtin_scenes() -> list[tuple[str, Any]]:
 
 
 models: Registry[type[Model]] = Registry("model", "conslaw.models", check_model)
-schemes: Registry[type] = Registry("scheme", "conslaw.schemes", check_scheme, _builtin_schemes)
+schemes: Registry[type[Scheme]] = Registry(
+    "scheme", "conslaw.schemes", check_scheme, _builtin_schemes
+)
 reconstructors: Registry[Reconstructor] = Registry(
     "reconstructor",
     "conslaw.reconstructors",

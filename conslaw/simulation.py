@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+import signal
 import time
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -14,7 +15,7 @@ from numpy.typing import NDArray
 from conslaw import registry
 from conslaw.analysis import ErrorNorms, error_norms, total_mass
 from conslaw.config import Scene, load_scene
-from conslaw.errors import ConfigError
+from conslaw.errors import ConfigError, RunInterrupted, SchemeBreakdownError
 from conslaw.exact import ExactSolution, Unavailable
 from conslaw.grid import Grid
 from conslaw.model import Model
@@ -94,14 +95,18 @@ def _build(
 
         scheme_class = FrontTrackingNT
     scheme = scheme_class(
-        model, registry.reconstructors.get(scene.reconstructor), grid, left, right, scene.cfl
+        model,
+        registry.reconstructors.get(scene.reconstructor),
+        grid,
+        left,
+        right,
+        scene.cfl,
+        **scene.scheme_options,
     )
     q0 = scene.initial.cell_averages(grid, model)
     if not np.all(np.isfinite(q0)):
         raise ConfigError("initial: the initial data are not finite (NaN or inf)")
-    initial = State(0.0, grid.centres(), q0, 0.0)
-    if scene.front_tracking:
-        initial = scheme.initial_margins(initial)  # type: ignore[attr-defined]
+    initial = scheme.initial_state(State(0.0, grid.centres(), q0, 0.0), scene.initial)
     exact, note = exact_solution_for(scene, model, grid)
     return model, grid, scheme, initial, exact, note
 
@@ -133,65 +138,85 @@ def exact_solution_for(
     return exact, None
 
 
-def simulate(scene: Scene, progress: ProgressCallback | None = None) -> RunResult:
-    """Run a validated scene to every output time."""
+#: Called after every output time with the result so far (its last state is the new one).
+OutputCallback = Callable[["RunResult"], None]
+
+
+def simulate(
+    scene: Scene,
+    progress: ProgressCallback | None = None,
+    on_output: OutputCallback | None = None,
+) -> RunResult:
+    """Run a validated scene to every output time.
+
+    ``on_output(result)`` is called as the run reaches each output time, with the result so far
+    (:class:`conslaw.io.RunWriter` writes the files there, so a run that fails or is interrupted
+    keeps every earlier output). A Ctrl-C (or a signal turned into a ``KeyboardInterrupt``)
+    becomes :class:`~conslaw.errors.RunInterrupted` saying where the run stopped.
+    """
     model, grid, scheme, initial, exact_solution, exact_note = _build(scene)
     scheme.check_admissible(initial, step=0)
-    # Compile the kernels (or load them from the cache) before the clock starts.
-    started = time.perf_counter()
-    scheme.advance(initial, initial.t)
-    compile_seconds = time.perf_counter() - started
-    states: list[State] = []
-    state = initial
-    steps = 0
-    margin_rows: list[Array] = []
-    started = time.perf_counter()
+    result = RunResult(
+        scene, model, grid, scheme, initial, [], exact_solution, [], [], 0, 0.0,
+        np.zeros(model.n_vars), 0.0, exact_note,
+    )  # fmt: skip
+    reached = [initial.t, 0.0]  # time and steps the solution has reached
+    last_output: float | None = None
 
     def report(t: float, n: int) -> None:
+        reached[:] = [t, result.steps + n]
         if progress is not None:
-            progress(t, steps + n)
+            progress(t, result.steps + n)
 
-    for t_out in scene.output_times:
-        if t_out > state.t:
-            advanced = scheme.advance(state, t_out, report)
-            state = advanced.state
-            steps += advanced.steps
-            if advanced.margins is not None:
-                margin_rows.append(advanced.margins[1:] if margin_rows else advanced.margins)
-        elif state.margins is not None and not margin_rows:
-            margin_rows.append(np.array([state.margins.row(state.t)]))
-        states.append(state)
-    solve_seconds = time.perf_counter() - started
-    exact: list[Array | None] = []
-    errors: list[ErrorNorms | None] = []
-    for s in states:
-        if exact_solution is None:
-            exact.append(None)
-            errors.append(None)
-            continue
-        averages = exact_solution.cell_averages(grid.edges, s.t)
-        exact.append(averages)
-        errors.append(error_norms(s.q[0], averages[0], grid.dx, grid.length))
+    try:
+        # Compile the kernels (or load them from the cache) before the clock starts.
+        started = time.perf_counter()
+        scheme.advance(initial, initial.t)
+        result.compile_seconds = time.perf_counter() - started
+        state = initial
+        margin_rows: list[Array] = []
+        for t_out in scene.output_times:
+            if t_out > state.t:
+                started = time.perf_counter()
+                try:
+                    advanced = scheme.advance(state, t_out, report)
+                except SchemeBreakdownError as error:
+                    error.completed_states = list(result.states)
+                    raise
+                result.solve_seconds += time.perf_counter() - started
+                state = advanced.state
+                result.steps += advanced.steps
+                if advanced.margins is not None:
+                    margin_rows.append(advanced.margins[1:] if margin_rows else advanced.margins)
+            elif state.margins is not None and not margin_rows:
+                margin_rows.append(np.array([state.margins.row(state.t)]))
+            _record(result, state, margin_rows)
+            if on_output is not None:
+                on_output(result)
+            last_output = state.t
+    except RunInterrupted:
+        raise
+    except KeyboardInterrupt as interrupt:
+        number = getattr(interrupt, "signal_number", signal.SIGINT)
+        raise RunInterrupted(reached[0], int(reached[1]), last_output, number) from None
+    return result
+
+
+def _record(result: RunResult, state: State, margin_rows: list[Array]) -> None:
+    """Append an output state with its exact cell averages and errors; update the totals."""
+    grid, initial = result.grid, result.initial
+    exact = None
+    if result.exact_solution is not None:
+        exact = result.exact_solution.cell_averages(grid.edges, state.t)
+    result.states.append(state)
+    result.exact.append(exact)
+    result.errors.append(
+        None if exact is None else error_norms(state.q[0], exact[0], grid.dx, grid.length)
+    )
+    result.margins = np.concatenate(margin_rows) if margin_rows else None
     mass0 = total_mass(initial.q, grid.dx)
     scale = np.maximum(np.abs(mass0), total_mass(np.abs(initial.q), grid.dx))
-    drift = (total_mass(states[-1].q, grid.dx) - mass0) / np.where(scale > 0, scale, 1.0)
-    return RunResult(
-        scene,
-        model,
-        grid,
-        scheme,
-        initial,
-        states,
-        exact_solution,
-        exact,
-        errors,
-        steps,
-        solve_seconds,
-        drift,
-        compile_seconds,
-        exact_note,
-        np.concatenate(margin_rows) if margin_rows else None,
-    )
+    result.mass_drift = (total_mass(state.q, grid.dx) - mass0) / np.where(scale > 0, scale, 1.0)
 
 
 def run(
@@ -207,7 +232,9 @@ def run(
     scene : str, Path or Scene
         A built-in scene name (``conslaw list``), a path to a ``.toml`` file, or a Scene.
     out : path, optional
-        Folder for the npz states, the resolved scene and the plot. Nothing is written without it.
+        Folder for the output files the scene asks for (``output.formats``: npz, xdmf, vtu,
+        csv), the resolved scene and the plots; each output time is written as the run reaches
+        it. Nothing is written without it.
     **overrides
         Scene keys to override, e.g. ``n_cells=800, reconstructor="weno5"``; nested keys as
         ``**{"boundary.left": "wall"}``.
@@ -223,15 +250,14 @@ def run(
         resolved = scene
     else:
         resolved = load_scene(scene, _flatten(overrides))
-    if out is not None:
-        from conslaw.io import check_output_dir
+    if out is None:
+        return simulate(resolved, progress)
+    from conslaw.io import RunWriter, check_output_dir
 
-        check_output_dir(Path(out))
-    result = simulate(resolved, progress)
-    if out is not None:
-        from conslaw.io import write_run
-
-        result.files = write_run(result, Path(out))
+    check_output_dir(Path(out))
+    writer = RunWriter(Path(out), resolved)
+    result = simulate(resolved, progress, writer)
+    result.files = writer.finish(result)
     return result
 
 

@@ -38,6 +38,72 @@ class Margins:
 
 
 @dataclass(frozen=True)
+class LagrangianNodes:
+    """The moving mesh of the Lagrangian scheme: ``n + 1`` nodes carried by the material and the
+    fixed volume (mass per unit width) of each of the ``n`` elements between them.
+
+    Attributes
+    ----------
+    positions : ndarray, shape (n + 1,)
+        Node positions, strictly increasing.
+    velocities : ndarray, shape (n + 1,)
+        Node velocities.
+    volumes : ndarray, shape (n,)
+        Element volumes ``V_i``; the element depth is ``V_i / (x_{i+1} - x_i)``.
+    ends : (str, str)
+        What the first and last node are: ``"free"`` (a margin, ``h = 0`` beyond it),
+        ``"wall"`` (held at a wall) or ``"open"`` (at an outflow boundary).
+    """
+
+    positions: NDArray[np.float64]
+    velocities: NDArray[np.float64]
+    volumes: NDArray[np.float64]
+    ends: tuple[str, str] = ("free", "free")
+
+    def __post_init__(self) -> None:
+        arrays = {}
+        for name in ("positions", "velocities", "volumes"):
+            values = np.array(getattr(self, name), dtype=np.float64, copy=True)
+            values.flags.writeable = False
+            arrays[name] = values
+            object.__setattr__(self, name, values)
+        n = arrays["volumes"].shape
+        if (
+            len(n) != 1
+            or arrays["positions"].shape != (n[0] + 1,)
+            or arrays["velocities"].shape != (n[0] + 1,)
+        ):
+            raise ValueError("LagrangianNodes needs n + 1 positions and velocities for n volumes")
+
+    @property
+    def n_elements(self) -> int:
+        """Number of elements."""
+        return int(self.volumes.size)
+
+    @property
+    def depths(self) -> NDArray[np.float64]:
+        """Element depths ``h_i = V_i / (x_{i+1} - x_i)``."""
+        return np.asarray(self.volumes / np.diff(self.positions))
+
+
+def node_arrays(states: list[State]) -> dict[str, NDArray[np.float64]]:
+    """The Lagrangian meshes of ``states`` for ``states.npz``: ``nodes`` (positions),
+    ``node_velocities`` (both ``(n_out, n + 1)``) and ``element_depths`` (``(n_out, n)``); empty
+    when the states carry none (or meshes of different sizes)."""
+    meshes = [s.nodes for s in states]
+    if not meshes or any(m is None for m in meshes):
+        return {}
+    sizes = {m.n_elements for m in meshes if m is not None}
+    if len(sizes) != 1:
+        return {}
+    return {
+        "nodes": np.array([m.positions for m in meshes if m is not None]),
+        "node_velocities": np.array([m.velocities for m in meshes if m is not None]),
+        "element_depths": np.array([m.depths for m in meshes if m is not None]),
+    }
+
+
+@dataclass(frozen=True)
 class State:
     """The conserved variables at one time on one cell family.
 
@@ -52,7 +118,9 @@ class State:
     offset : float
         0.0 on the primary grid, 0.5 on the staggered grid of the Nessyahu–Tadmor scheme.
     margins : Margins or None
-        The tracked margins (front tracking only).
+        The tracked margins (front tracking; the free end nodes of the Lagrangian scheme).
+    nodes : LagrangianNodes or None
+        The moving mesh of the Lagrangian scheme (``q`` is then its projection on the grid).
     """
 
     t: float
@@ -60,6 +128,7 @@ class State:
     q: NDArray[np.float64]
     offset: float = 0.0
     margins: Margins | None = None
+    nodes: LagrangianNodes | None = None
 
     def __post_init__(self) -> None:
         q = np.array(self.q, dtype=np.float64, order="C", copy=True, ndmin=2)

@@ -25,7 +25,6 @@ from pathlib import Path
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.interpolate import PchipInterpolator, make_smoothing_spline
 
 from conslaw.errors import ConfigError, finite_number
 
@@ -131,6 +130,9 @@ class TableChute(Chute):
             raise ConfigError(f"parameters.chute_file: '{path}' has empty or non-finite entries")
         if np.any(np.diff(x) <= 0):
             raise ConfigError(f"parameters.chute_file: x must be strictly increasing in '{path}'")
+        # Imported here: scipy.interpolate costs about 0.4 s, and only a table chute needs it.
+        from scipy.interpolate import PchipInterpolator, make_smoothing_spline
+
         if names[1] == "zeta":
             if np.any(np.abs(values) >= 90):
                 raise ConfigError(f"parameters.chute_file: angles must be in (-90, 90) in '{path}'")

@@ -11,6 +11,7 @@ from typing import ClassVar
 
 import numpy as np
 from numba import njit
+from numpy.typing import NDArray
 
 from conslaw.model import Model
 
@@ -56,3 +57,9 @@ class DepthAveragedModel(Model):
     def dry_depth(self) -> float:
         """The ``dry_tolerance`` parameter."""
         return float(self.params.dry_tolerance)
+
+    def primitive_fields(self, q: NDArray[np.float64]) -> dict[str, NDArray[np.float64]]:
+        """Depth ``h`` and velocity ``u = hu / h`` (0 in a dry cell, as in every formula)."""
+        h, m = np.asarray(q[0]), np.asarray(q[1])
+        wet = (h >= self.dry_depth()) & (h > 0.0)
+        return {"h": h, "u": np.where(wet, m / np.where(wet, h, 1.0), 0.0)}

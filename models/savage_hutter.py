@@ -240,6 +240,17 @@ class SavageHutter(DepthAveragedModel):
             )
         )
 
+    def coefficient_fields(self, x: Array, coefficients: Array) -> dict[str, Array]:
+        """``zeta`` (the local inclination in degrees), ``lambda_kappa`` (curvature term of
+        eq. 3), ``K`` (earth-pressure coefficient chosen by eq. 5) and
+        ``beta = eps cos zeta K`` (eq. 2)."""
+        return {
+            "zeta": np.degrees(self.chute.zeta(np.asarray(x, dtype=np.float64))),
+            "lambda_kappa": np.asarray(coefficients[CURVATURE]),
+            "K": np.asarray(coefficients[K]),
+            "beta": self.params.epsilon * coefficients[COS] * coefficients[K],
+        }
+
     def initial_cell_averages(self, kind: str, options: Mapping[str, Any], grid: Grid) -> Array:
         """``parabolic-cap``: exact cell averages of the cap plus the thin layer, at rest."""
         values = {}

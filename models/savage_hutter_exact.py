@@ -19,10 +19,10 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.optimize import brentq
 
 from conslaw.errors import ConfigError
 from conslaw.exact import ExactSolution, piecewise_cell_averages
+from conslaw_models.roots import increasing_root
 
 Array = NDArray[np.float64]
 
@@ -53,7 +53,7 @@ class SimilaritySolution(ExactSolution):
         return cls(slope, beta, height, half_length, centre)
 
     def spread(self, t: float) -> tuple[float, float]:
-        """``(g(t), g'(t))``, solving the implicit form for ``G = g / g0`` with brentq."""
+        """``(g(t), g'(t))``, solving the implicit form for ``G = g / g0`` (to the last bit)."""
         if t <= 0.0:
             return self.half_length, 0.0
         target = 2.0 * math.sqrt(self.beta * self.height / self.half_length**2) * t
@@ -64,7 +64,7 @@ class SimilaritySolution(ExactSolution):
         upper = 2.0
         while mismatch(upper) < 0.0:
             upper *= 2.0
-        G = brentq(mismatch, 1.0, upper, xtol=1e-15, rtol=4 * np.finfo(float).eps)
+        G = increasing_root(mismatch, 1.0, upper)
         rate = 2.0 * math.sqrt(self.beta * self.height) * math.sqrt(1.0 - 1.0 / G)
         return G * self.half_length, rate
 

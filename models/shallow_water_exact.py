@@ -7,10 +7,10 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.optimize import brentq
 
 from conslaw.exact import ExactSolution, piecewise_cell_averages
 from conslaw.initial import InitialCondition
+from conslaw_models.roots import increasing_root
 
 Array = NDArray[np.float64]
 
@@ -66,7 +66,8 @@ class DamBreak(ExactSolution):
             )
             return rarefaction - shock
 
-        h_m = brentq(mismatch, h_shallow, h_deep, xtol=1e-15, rtol=4 * np.finfo(float).eps)
+        # The mismatch falls from > 0 at h_shallow to < 0 at h_deep.
+        h_m = increasing_root(lambda h: -mismatch(h), h_shallow, h_deep)
         return h_m, 2.0 * (c_deep - math.sqrt(self.g * h_m))
 
     def _structure(self, t: float) -> tuple[Array, list]:  # type: ignore[type-arg]

@@ -1,8 +1,12 @@
-"""Regenerate the figures committed under docs/figures/ from the built-in scenes:
+"""Regenerate the run figures committed under docs/figures/ from the built-in scenes:
 
     python scripts/figures.py
 
+(The paper's Figs. 3-5 under docs/figures/paper/ come from `conslaw reproduce paper --out
+docs/figures/paper`.)
+
 Each scene is run with its own settings; its PNGs are copied to docs/figures/<scene>-<name>.png.
+(The Fig. 3-style comparison of NT and the Lagrangian scheme is part of `reproduce paper`.)
 """
 
 from __future__ import annotations
@@ -19,9 +23,6 @@ SCENES = [
     ("burgers-riemann", "burgers-riemann", {"n_cells": 1600}),
     ("dam-break-wet", "dam-break-wet", {"n_cells": 400}),
     ("dam-break-dry", "dam-break-dry", {"n_cells": 400}),
-    ("sh-similarity", "sh-similarity", {}),
-    ("sh-similarity-ft", "sh-similarity-ft", {}),
-    ("sh-runout-shock", "sh-runout-shock", {}),
     ("sh-runout-shock-ft", "sh-runout-shock", {"front_tracking": True}),
 ]
 

@@ -5,6 +5,7 @@ python scripts/scene_reference.py > docs/scenes.md
 
 from __future__ import annotations
 
+from conslaw import registry
 from conslaw.config import DEFAULTS, KEY_HELP, REQUIRED
 from conslaw.initial import INITIAL_KINDS
 
@@ -39,6 +40,23 @@ def render() -> str:
     for kind, (required, optional, description) in INITIAL_KINDS.items():
         extra = ", ".join(f"{k} ({v!r})" for k, v in optional.items()) or "-"
         lines.append(f"| `{kind}` | {', '.join(required)} | {extra} | {description} |")
+    lines += [
+        "",
+        "## Scheme options (`[scheme_options]`)",
+        "",
+        "Checked against the options the scene's scheme declares (unknown keys are errors);",
+        "override with `--set scheme_options.KEY=VALUE`. In `conslaw compare` and",
+        "`conslaw convergence`, options can follow a scheme name: `lagrangian:viscosity=0.02`.",
+        "",
+        "| scheme | option | default | meaning |",
+        "|---|---|---|---|",
+    ]
+    for name in registry.schemes.names():
+        options = registry.schemes.get(name).options
+        if not options:
+            lines.append(f"| `{name}` | - | - | no options |")
+        for key, option in options.items():
+            lines.append(f"| `{name}` | `{key}` | `{option.default!r}` | {option.description} |")
     return "\n".join(lines) + "\n"
 
 

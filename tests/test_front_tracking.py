@@ -59,23 +59,27 @@ def test_similarity_beats_thin_layer_and_stays_active(similarity_ft: conslaw.Run
 
 def test_margin_error_converges_and_is_printed(capsys: pytest.CaptureFixture[str]) -> None:
     """The convergence tool reports the margin error at t = 6 and its observed order for
-    90/180/360 cells. The margins stay within a quarter cell at every N (an O(dx) error)."""
+    90/180/360 cells: at least 1 (issue 5; measured 1.67 and 1.71), and the margins stay within
+    a tenth of a cell at every N."""
     study = convergence_study("sh-similarity-ft", [90, 180, 360], repeats=1, measure_import=False)
     table = study.table()
     print(table)
-    assert "margin error" in table
+    assert "margin error" in table and "order margin" in table
     errors = [row.margin_error for row in study.rows]
     assert all(e is not None for e in errors)
     for row in study.rows:
-        assert row.margin_error <= 0.25 * 18.0 / row.n_cells
-    assert errors[0] > errors[1] > errors[2]
-    assert study.rows[1].order_margin is not None and study.rows[2].order_margin is not None
+        assert row.margin_error <= 0.1 * 18.0 / row.n_cells
+    orders = [row.order_margin for row in study.rows[1:]]
+    assert all(order is not None and order >= 1.0 for order in orders), orders
+    assert f"{orders[0]:.2f}" in table and f"{orders[1]:.2f}" in table
 
 
 def test_runout_front_stops_and_stays(tmp_path: Path) -> None:
     """sh-runout-shock with front tracking: the front comes to rest in the run-out and stays
     there to t = 20; mass to round-off; margins written to npz, CSV and a plot."""
-    result = conslaw.run("sh-runout-shock", front_tracking=True, out=tmp_path)
+    result = conslaw.run(
+        "sh-runout-shock", front_tracking=True, out=tmp_path, **{"output.formats": ["npz", "csv"]}
+    )
     margins = result.margins
     assert margins[-1, 0] == 20.0
     stopped = np.flatnonzero(margins[:, 4] == 0.0)
@@ -130,6 +134,9 @@ def test_margin_fit_is_exact_for_a_quadratic() -> None:
         ("burgers-riemann", {"front_tracking": True}, "needs a model with a depth variable"),
         ("sh-similarity-ft", {"initial.thin_layer": 1e-4}, "fills the whole domain"),
         ("sh-similarity-ft", {"scheme": "nessyahu-tadmor", "front_tracking": 1}, "true or false"),
+        # A dam break's edge is a step: eq. (19) cannot start from it (unbounded acceleration;
+        # the front overshot by 14 dx at N = 400 before this refusal).
+        ("dam-break-dry", {"front_tracking": True}, "front margin starts as a step"),
     ],
 )
 def test_refused_at_set_up(scene: str, overrides: dict, fragment: str) -> None:

@@ -1,10 +1,13 @@
 """Template: compiled loops over cells of a model's pointwise functions.
 
 Generated per model by :func:`conslaw.kernels.codegen.model_array_kernels`; do not import directly.
+The per-cell vectors are stack arrays of the compile-time sizes ``NV`` and ``NAUX`` (see
+:mod:`conslaw.kernels.scratch`).
 """
 
-import numpy as np
-from numba import njit
+from numba import njit  # noqa: I001 (the binding block below is replaced when generated)
+
+from conslaw.kernels.scratch import local_matrix, local_vector
 
 # --- bindings ---
 from conslaw.kernels.placeholders import (
@@ -19,6 +22,8 @@ from conslaw.kernels.placeholders import (
     source_point as _source_point,
 )
 
+NV = 1
+NAUX = 0
 HAS_SOURCE = False
 HAS_BALANCED_SOURCE = False
 HAS_CORRECTION = False
@@ -30,44 +35,41 @@ HAS_DYNAMIC_COEFFICIENTS = False
 @njit(cache=True)
 def load_column(q, aux, i, state, coefficients):  # type: ignore[no-untyped-def]
     """Copy column i of the state and of the coefficients into the scratch vectors."""
-    for v in range(q.shape[0]):
+    for v in range(NV):
         state[v] = q[v, i]
-    for k in range(aux.shape[0]):
+    for k in range(NAUX):
         coefficients[k] = aux[k, i]
 
 
 @njit(cache=True)
 def flux_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
-    nv = q.shape[0]
-    state = np.empty(nv)
-    result = np.empty(nv)
-    coefficients = np.empty(aux.shape[0])
+    state = local_vector(NV)
+    result = local_vector(NV)
+    coefficients = local_vector(NAUX)
     for i in range(q.shape[1]):
         load_column(q, aux, i, state, coefficients)
         _flux_point(state, coefficients, params, result)
-        for v in range(nv):
+        for v in range(NV):
             out[v, i] = result[v]
 
 
 @njit(cache=True)
 def jacobian_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
-    nv = q.shape[0]
-    state = np.empty(nv)
-    matrix = np.empty((nv, nv))
-    coefficients = np.empty(aux.shape[0])
+    state = local_vector(NV)
+    matrix = local_matrix(NV)
+    coefficients = local_vector(NAUX)
     for i in range(q.shape[1]):
         load_column(q, aux, i, state, coefficients)
         _jacobian_point(state, coefficients, params, matrix)
-        for r in range(nv):
-            for c in range(nv):
+        for r in range(NV):
+            for c in range(NV):
                 out[r, c, i] = matrix[r, c]
 
 
 @njit(cache=True)
 def max_speed_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
-    nv = q.shape[0]
-    state = np.empty(nv)
-    coefficients = np.empty(aux.shape[0])
+    state = local_vector(NV)
+    coefficients = local_vector(NAUX)
     for i in range(q.shape[1]):
         load_column(q, aux, i, state, coefficients)
         out[i] = _max_speed_point(state, coefficients, params)
@@ -75,23 +77,23 @@ def max_speed_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
 
 @njit(cache=True)
 def source_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
-    nv = q.shape[0]
-    state = np.empty(nv)
-    result = np.zeros(nv)
-    coefficients = np.empty(aux.shape[0])
+    state = local_vector(NV)
+    result = local_vector(NV)
+    for v in range(NV):
+        result[v] = 0.0
+    coefficients = local_vector(NAUX)
     for i in range(q.shape[1]):
         load_column(q, aux, i, state, coefficients)
         if HAS_SOURCE:
             _source_point(state, coefficients, params, result)
-        for v in range(nv):
+        for v in range(NV):
             out[v, i] = result[v]
 
 
 @njit(cache=True)
 def admissible_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
-    nv = q.shape[0]
-    state = np.empty(nv)
-    coefficients = np.empty(aux.shape[0])
+    state = local_vector(NV)
+    coefficients = local_vector(NAUX)
     for i in range(q.shape[1]):
         load_column(q, aux, i, state, coefficients)
         out[i] = _admissible_point(state, coefficients, params)
@@ -99,43 +101,42 @@ def admissible_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
 
 @njit(cache=True)
 def balanced_source_cells(q, aux, dx, params, out):  # type: ignore[no-untyped-def]
-    nv = q.shape[0]
-    left = np.empty(nv)
-    right = np.empty(nv)
-    result = np.zeros(nv)
-    aux_left = np.empty(aux.shape[0])
-    aux_right = np.empty(aux.shape[0])
+    left = local_vector(NV)
+    right = local_vector(NV)
+    result = local_vector(NV)
+    for v in range(NV):
+        result[v] = 0.0
+    aux_left = local_vector(NAUX)
+    aux_right = local_vector(NAUX)
     for i in range(q.shape[1] - 1):
-        for v in range(nv):
+        for v in range(NV):
             left[v] = q[v, i]
             right[v] = q[v, i + 1]
-        for k in range(aux.shape[0]):
+        for k in range(NAUX):
             aux_left[k] = aux[k, i]
             aux_right[k] = aux[k, i + 1]
         if HAS_BALANCED_SOURCE:
             _balanced_source_point(left, right, aux_left, aux_right, dx, params, result)
-        for v in range(nv):
+        for v in range(NV):
             out[v, i] = result[v]
 
 
 @njit(cache=True)
 def correct_cells(q, aux, params, dt):  # type: ignore[no-untyped-def]
-    nv = q.shape[0]
-    state = np.empty(nv)
-    coefficients = np.empty(aux.shape[0])
+    state = local_vector(NV)
+    coefficients = local_vector(NAUX)
     for i in range(q.shape[1]):
         load_column(q, aux, i, state, coefficients)
         if HAS_CORRECTION:
             _correct_point(state, coefficients, params, dt)
-        for v in range(nv):
+        for v in range(NV):
             q[v, i] = state[v]
 
 
 @njit(cache=True)
 def resistance_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
-    nv = q.shape[0]
-    state = np.empty(nv)
-    coefficients = np.empty(aux.shape[0])
+    state = local_vector(NV)
+    coefficients = local_vector(NAUX)
     for i in range(q.shape[1]):
         load_column(q, aux, i, state, coefficients)
         if HAS_RESISTANCE:
@@ -144,17 +145,16 @@ def resistance_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
 
 @njit(cache=True)
 def coefficients_cells(q, slopes, aux, params):  # type: ignore[no-untyped-def]
-    nv = q.shape[0]
-    state = np.empty(nv)
-    slope = np.empty(nv)
-    coefficients = np.empty(aux.shape[0])
+    state = local_vector(NV)
+    slope = local_vector(NV)
+    coefficients = local_vector(NAUX)
     for i in range(q.shape[1]):
-        for v in range(nv):
+        for v in range(NV):
             state[v] = q[v, i]
             slope[v] = slopes[v, i]
-        for k in range(aux.shape[0]):
+        for k in range(NAUX):
             coefficients[k] = aux[k, i]
         if HAS_DYNAMIC_COEFFICIENTS:
             _coefficients_point(state, slope, coefficients, params)
-        for k in range(aux.shape[0]):
+        for k in range(NAUX):
             aux[k, i] = coefficients[k]

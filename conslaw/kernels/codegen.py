@@ -114,6 +114,8 @@ def generate(
         module_name, name = import_path(function)
         lines.append(f"from {module_name} import {name} as {placeholder}")
         modules.add(module_name)
+    # The kernels package itself (templates, scratch arrays) is part of every kernel's source.
+    modules.add(__name__)
     sources.extend(_module_source(module_name) for module_name in sorted(modules))
     for key, value in sorted(constants.items()):
         lines.append(f"{key} = {value!r}")
@@ -156,6 +158,9 @@ def _model_constants(model: Model) -> dict[str, bool | int | float]:
     bed, bed_slope = model.surface_aux if uses["surface"] and model.surface_aux else (-1, -1)
     depth = model.depth_index
     return {
+        "NV": int(model.n_vars),
+        "NAUX": int(model.n_aux),
+        "NPARAMS": len(model.param_vector()),
         "HAS_SOURCE": uses["source"],
         "HAS_BALANCED_SOURCE": uses["balanced_source"],
         "HAS_CORRECTION": uses["correction"],
@@ -185,7 +190,7 @@ def model_array_kernels(model: Model) -> ModuleType:
     )
     constants = _model_constants(model)
     keys = (
-        "HAS_SOURCE", "HAS_BALANCED_SOURCE", "HAS_CORRECTION", "HAS_RESISTANCE",
+        "NV", "NAUX", "HAS_SOURCE", "HAS_BALANCED_SOURCE", "HAS_CORRECTION", "HAS_RESISTANCE",
         "HAS_DYNAMIC_COEFFICIENTS",
     )  # fmt: skip
     return generate("arrays_template.py", bindings, {key: constants[key] for key in keys})

@@ -56,7 +56,7 @@ def slope_superbee(wm2, wm1, w0, wp1, wp2):  # type: ignore[no-untyped-def]
     return np.sign(a + b) * np.maximum(np.abs(a), np.abs(b))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")  # no zero-division branch: the kernel stays SIMD
 def slope_vanleer(wm2, wm1, w0, wp1, wp2):  # type: ignore[no-untyped-def]
     """Van Leer (harmonic) limiter, ``w' = (Δ+|Δ-| + Δ-|Δ+|)/(|Δ-| + |Δ+|)`` (van Leer 1974)."""
     dm = w0 - wm1

@@ -10,7 +10,10 @@ r = 3, piecewise quadratic".
 
 ``slope_weno3`` is r = 2 (two linear candidate stencils, third-order face values);
 ``slope_weno5`` is r = 3 (three quadratic candidates, fifth-order face values).
-As for the limiters, the bodies are ufunc-only so they run compiled and vectorised.
+As for the limiters, the bodies are ufunc-only so they run compiled and vectorised. Squares are
+written as products (``x ** 2`` compiles to a call of ``pow``, the product is the same number),
+and the functions are inlined into the compiled kernel at numba's level (``inline="always"``;
+they are too large for LLVM's inliner, and a call per cell stops the kernel's SIMD code).
 """
 
 from __future__ import annotations
@@ -21,42 +24,48 @@ from numba import njit
 WENO_EPSILON = 1e-6
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
 def _weno3_face(wm1, w0, wp1):  # type: ignore[no-untyped-def]
     """Third-order WENO value at the right face of the middle cell (Jiang & Shu 1996, r = 2)."""
     candidate0 = -0.5 * wm1 + 1.5 * w0
     candidate1 = 0.5 * w0 + 0.5 * wp1
-    beta0 = (w0 - wm1) ** 2
-    beta1 = (wp1 - w0) ** 2
-    alpha0 = (1.0 / 3.0) / (WENO_EPSILON + beta0) ** 2
-    alpha1 = (2.0 / 3.0) / (WENO_EPSILON + beta1) ** 2
+    beta0 = (w0 - wm1) * (w0 - wm1)
+    beta1 = (wp1 - w0) * (wp1 - w0)
+    alpha0 = (1.0 / 3.0) / ((WENO_EPSILON + beta0) * (WENO_EPSILON + beta0))
+    alpha1 = (2.0 / 3.0) / ((WENO_EPSILON + beta1) * (WENO_EPSILON + beta1))
     return (alpha0 * candidate0 + alpha1 * candidate1) / (alpha0 + alpha1)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
 def _weno5_face(wm2, wm1, w0, wp1, wp2):  # type: ignore[no-untyped-def]
     """Fifth-order WENO value at the right face of the middle cell (Jiang & Shu 1996, r = 3)."""
     candidate0 = (2.0 * wm2 - 7.0 * wm1 + 11.0 * w0) / 6.0
     candidate1 = (-wm1 + 5.0 * w0 + 2.0 * wp1) / 6.0
     candidate2 = (2.0 * w0 + 5.0 * wp1 - wp2) / 6.0
-    beta0 = (13.0 / 12.0) * (wm2 - 2.0 * wm1 + w0) ** 2 + 0.25 * (wm2 - 4.0 * wm1 + 3.0 * w0) ** 2
-    beta1 = (13.0 / 12.0) * (wm1 - 2.0 * w0 + wp1) ** 2 + 0.25 * (wm1 - wp1) ** 2
-    beta2 = (13.0 / 12.0) * (w0 - 2.0 * wp1 + wp2) ** 2 + 0.25 * (3.0 * w0 - 4.0 * wp1 + wp2) ** 2
-    alpha0 = 0.1 / (WENO_EPSILON + beta0) ** 2
-    alpha1 = 0.6 / (WENO_EPSILON + beta1) ** 2
-    alpha2 = 0.3 / (WENO_EPSILON + beta2) ** 2
+    curvature0 = wm2 - 2.0 * wm1 + w0
+    curvature1 = wm1 - 2.0 * w0 + wp1
+    curvature2 = w0 - 2.0 * wp1 + wp2
+    gradient0 = wm2 - 4.0 * wm1 + 3.0 * w0
+    gradient1 = wm1 - wp1
+    gradient2 = 3.0 * w0 - 4.0 * wp1 + wp2
+    beta0 = (13.0 / 12.0) * (curvature0 * curvature0) + 0.25 * (gradient0 * gradient0)
+    beta1 = (13.0 / 12.0) * (curvature1 * curvature1) + 0.25 * (gradient1 * gradient1)
+    beta2 = (13.0 / 12.0) * (curvature2 * curvature2) + 0.25 * (gradient2 * gradient2)
+    alpha0 = 0.1 / ((WENO_EPSILON + beta0) * (WENO_EPSILON + beta0))
+    alpha1 = 0.6 / ((WENO_EPSILON + beta1) * (WENO_EPSILON + beta1))
+    alpha2 = 0.3 / ((WENO_EPSILON + beta2) * (WENO_EPSILON + beta2))
     return (alpha0 * candidate0 + alpha1 * candidate1 + alpha2 * candidate2) / (
         alpha0 + alpha1 + alpha2
     )
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
 def slope_weno3(wm2, wm1, w0, wp1, wp2):  # type: ignore[no-untyped-def]
     """WENO r = 2 slope: ``w^-_{j+1/2} - w^+_{j-1/2}`` (the left face by mirror symmetry)."""
     return _weno3_face(wm1, w0, wp1) - _weno3_face(wp1, w0, wm1)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
 def slope_weno5(wm2, wm1, w0, wp1, wp2):  # type: ignore[no-untyped-def]
     """WENO r = 3 slope: ``w^-_{j+1/2} - w^+_{j-1/2}`` (the left face by mirror symmetry)."""
     return _weno5_face(wm2, wm1, w0, wp1, wp2) - _weno5_face(wp2, wp1, w0, wm1, wm2)

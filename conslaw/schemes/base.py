@@ -11,8 +11,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from conslaw.boundary import BoundaryCondition
-from conslaw.errors import ConfigError, InadmissibleStateError, SchemeBreakdownError
+from conslaw.errors import (
+    ConfigError,
+    InadmissibleStateError,
+    SchemeBreakdownError,
+    unknown_name_message,
+)
 from conslaw.grid import Grid
+from conslaw.initial import InitialCondition
 from conslaw.model import Model
 from conslaw.reconstruct import Reconstructor
 from conslaw.state import State
@@ -43,6 +49,20 @@ ProgressCallback = Callable[[float, int], None]
 DT_FLOOR_RELATIVE = 1e-14
 
 
+@dataclass(frozen=True)
+class SchemeOption:
+    """An option a scheme declares for the scene table ``[scheme_options]``.
+
+    ``check(value, label)`` returns the validated value or raises a ConfigError naming ``label``.
+    """
+
+    default: Any
+    description: str
+    check: Callable[[Any, str], Any]
+    #: Named in run labels even at its default (otherwise only when set to another value).
+    always_shown: bool = False
+
+
 class Scheme(ABC):
     """A time-stepping scheme for ``q_t + f(q)_x = s(q)`` on a :class:`~conslaw.grid.Grid`.
 
@@ -52,12 +72,39 @@ class Scheme(ABC):
 
     name: ClassVar[str]
     description: ClassVar[str]
-    #: Whether the injected reconstructor shapes the solution (False: one reconstructor is as
-    #: good as another, and the registry-wide property tests run the scheme with one only).
+    #: Options of the scene table ``[scheme_options]``, passed to the constructor as keywords.
+    options: ClassVar[Mapping[str, SchemeOption]] = {}
+    #: Whether the injected reconstructor shapes the solution (False: reports show "-", and the
+    #: registry-wide property tests run the scheme with one reconstructor only).
     uses_reconstructor: ClassVar[bool] = True
     #: Whether the scheme needs the material in one body with dry cells around it (it tracks
     #: the body's margins); the property tests then draw such initial data.
     needs_single_body: ClassVar[bool] = False
+
+    @classmethod
+    def resolve_options(cls, given: Mapping[str, Any]) -> dict[str, Any]:
+        """``given`` checked against :attr:`options`, with the defaults filled in.
+
+        Unknown keys are a ConfigError naming the allowed ones (with a "did you mean").
+        """
+        for key in given:
+            if key not in cls.options:
+                raise ConfigError(
+                    f"scheme_options.{key}: scheme '{cls.name}' "
+                    + (
+                        unknown_name_message("option", key, cls.options).replace(
+                            "unknown option", "has no option"
+                        )
+                        if cls.options
+                        else "takes no options"
+                    )
+                )
+        return {
+            key: option.check(given[key], f"scheme_options.{key}")
+            if key in given
+            else option.default
+            for key, option in cls.options.items()
+        }
 
     def __init__(
         self,
@@ -80,6 +127,12 @@ class Scheme(ABC):
         self.right = right
         self.periodic = left.condition.periodic
         self.cfl = cfl
+
+    def initial_state(self, state: State, initial: InitialCondition | None = None) -> State:
+        """The state a run starts from, given the initial cell averages on the grid and the
+        initial condition they were computed from (a scheme with its own mesh may sample it
+        there). The default is ``state`` itself."""
+        return state
 
     @abstractmethod
     def stable_dt(self, state: State, cfl: float | None = None) -> float:
@@ -119,6 +172,12 @@ class Scheme(ABC):
             if progress is not None:
                 progress(state.t, steps)
         return AdvanceResult(state, steps)
+
+    def cell_coefficients(self, state: State) -> NDArray[np.float64]:
+        """The model's coefficients in the cells of ``state`` as a step from it would use them,
+        shape ``(n_aux, n_cells)`` (for output files). Default: the static ones of
+        :meth:`Model.aux <conslaw.model.Model.aux>`."""
+        return self.model.aux(state.x, self.grid.dx)
 
     def check_admissible(self, state: State, step: int) -> None:
         """Raise InadmissibleStateError naming time, step, cell and values if ``state`` is bad."""

@@ -1,0 +1,275 @@
+"""Output files: XDMF/HDF5, VTU and CSV read back exactly; only the formats asked for; every
+output time written as it is reached, so an interrupted or failed run keeps what came before."""
+
+from __future__ import annotations
+
+import signal
+import subprocess
+import sys
+import time
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import meshio
+import numpy as np
+import pytest
+from test_cli import CONSLAW, cli
+
+import conslaw
+from conslaw.errors import InadmissibleStateError
+from conslaw.schemes.nessyahu_tadmor import NessyahuTadmor
+
+ALL_FORMATS = {"output.formats": ["npz", "xdmf", "vtu", "csv"]}
+
+
+def expected_fields(result: conslaw.RunResult, k: int) -> dict[str, np.ndarray]:
+    """The fields of output ``k``, built here from the solver's arrays and the model's
+    parameters (not through conslaw.io)."""
+    state, model = result.states[k], result.model
+    fields = {name: state.q[v] for v, name in enumerate(model.variables)}
+    if model.depth_index is not None:
+        h, m = state.q
+        wet = (h >= model.dry_depth()) & (h > 0.0)
+        fields["u"] = np.where(wet, m / np.where(wet, h, 1.0), 0.0)
+    coefficients = result.scheme.cell_coefficients(state)
+    if model.name == "savage-hutter":
+        zeta = model.chute.zeta(state.x)
+        k_cells = coefficients[3]
+        assert set(np.unique(k_cells)) <= {model.k_active, model.k_passive}
+        fields.update(
+            zeta=np.degrees(zeta),
+            lambda_kappa=model.chute.curvature(state.x),
+            K=k_cells,
+            beta=model.params.epsilon * np.cos(zeta) * k_cells,
+        )
+    elif model.name == "shallow-water":
+        fields.update(bed=coefficients[0], bed_slope=coefficients[1])
+    if result.exact[k] is not None:
+        for v, name in enumerate(model.variables):
+            fields[f"{name}_exact"] = result.exact[k][v]
+    return fields
+
+
+def expected_field_data(state: conslaw.State) -> dict[str, float]:
+    data = {"time": state.t}
+    if state.margins is not None:
+        for side in ("rear", "front"):
+            margin = getattr(state.margins, side)
+            if margin is not None:
+                data[f"x_{side}"], data[f"u_{side}"] = margin.position, margin.velocity
+    return data
+
+
+SCENES = [
+    # name, overrides: a curved chute where K switches (passive behind the shock), front tracking
+    # with margins, shallow water with an exact solution, a scalar law on a periodic domain.
+    ("sh-runout-shock", {"t_end": 12.0, "output_times": [0.0, 8.0]}),
+    ("sh-similarity-ft", {"output_times": [0.0, 3.0]}),
+    ("dam-break-wet", {"n_cells": 100, "output_times": [1.0]}),
+    ("burgers-sine", {"n_cells": 64, "output_times": [0.1]}),
+]
+
+
+@pytest.mark.parametrize(("scene", "overrides"), SCENES, ids=[s for s, _ in SCENES])
+def test_xdmf_vtu_and_csv_read_back_exactly(tmp_path: Path, scene: str, overrides: dict) -> None:
+    result = conslaw.run(scene, out=tmp_path, **overrides, **ALL_FORMATS, **{"output.plot": False})
+    edges = result.grid.edges
+    n_out = len(result.states)
+    with meshio.xdmf.TimeSeriesReader(tmp_path / "solution.xdmf") as reader:
+        points, cells = reader.read_points_cells()
+        np.testing.assert_array_equal(points[:, 0], edges)
+        np.testing.assert_array_equal(points[:, 1:], 0.0)
+        assert len(cells) == 1 and cells[0].type == "line"
+        np.testing.assert_array_equal(cells[0].data[:, 1] - cells[0].data[:, 0], 1)
+        assert reader.num_steps == n_out
+        for k in range(n_out):
+            t, point_data, cell_data = reader.read_data(k)
+            assert t == result.states[k].t and point_data == {}
+            expected = expected_fields(result, k)
+            assert set(cell_data) == set(expected)
+            for name, values in expected.items():
+                np.testing.assert_array_equal(cell_data[name][0], values, err_msg=name)
+    information = ET.parse(tmp_path / "solution.xdmf").getroot().iter("Information")
+    names = [element.get("Name") for element in information]
+    assert names.count("time") == n_out
+    pvd = ET.parse(tmp_path / "solution.pvd").getroot()
+    entries = [(float(d.get("timestep")), d.get("file")) for d in pvd.iter("DataSet")]
+    assert [t for t, _ in entries] == [s.t for s in result.states]
+    for k, (_, name) in enumerate(entries):
+        mesh = meshio.read(tmp_path / name)
+        np.testing.assert_array_equal(mesh.points[:, 0], edges)
+        expected = expected_fields(result, k)
+        assert set(mesh.cell_data) == set(expected)
+        for field, values in expected.items():
+            np.testing.assert_array_equal(mesh.cell_data[field][0], values, err_msg=field)
+        data = expected_field_data(result.states[k])
+        assert {key: float(value[0]) for key, value in mesh.field_data.items()} == data
+        table = np.loadtxt(tmp_path / f"solution-{k:05d}.csv", delimiter=",", skiprows=1, ndmin=2)
+        header = (tmp_path / f"solution-{k:05d}.csv").read_text().splitlines()[0].split(",")
+        assert header == ["t", "x", *expected]
+        np.testing.assert_array_equal(table[:, 0], result.states[k].t)
+        np.testing.assert_array_equal(table[:, 1], result.states[k].x)
+        for column, values in enumerate(expected.values(), start=2):
+            np.testing.assert_array_equal(table[:, column], values)
+    with np.load(tmp_path / "states.npz") as saved:
+        np.testing.assert_array_equal(saved["q"], [s.q for s in result.states])
+
+
+def test_the_runout_writes_passive_earth_pressure_behind_the_shock(tmp_path: Path) -> None:
+    """K is the coefficient the scheme uses: passive where the deposit is compressed."""
+    result = conslaw.run(
+        "sh-runout-shock", out=tmp_path, t_end=16.0, output_times=[],
+        **{"output.formats": ["vtu"], "output.plot": False},
+    )  # fmt: skip
+    mesh = meshio.read(tmp_path / "solution-00000.vtu")
+    k_cells = mesh.cell_data["K"][0]
+    assert np.any(k_cells == result.model.k_passive) and np.any(k_cells == result.model.k_active)
+
+
+def test_only_the_formats_asked_for_are_written(tmp_path: Path) -> None:
+    conslaw.run(
+        "burgers-sine", out=tmp_path, n_cells=32, output_times=[0.1],
+        **{"output.formats": ["xdmf"], "output.plot": False},
+    )  # fmt: skip
+    names = sorted(p.name for p in tmp_path.iterdir())
+    assert names == [
+        "scene.toml",
+        "solution-00000.h5",
+        "solution-00001.h5",
+        "solution-mesh.h5",
+        "solution.xdmf",
+    ]
+
+
+def test_a_shorter_rerun_removes_the_series_files_it_did_not_write(tmp_path: Path) -> None:
+    keep = tmp_path / "notes.txt"
+    keep.write_text("mine")
+    common = {"n_cells": 32, "output.plot": False}
+    conslaw.run("burgers-sine", out=tmp_path, output_times=[0.1, 0.2], **ALL_FORMATS, **common)
+    assert (tmp_path / "solution-00002.vtu").exists()
+    conslaw.run("burgers-sine", out=tmp_path, **{"output.formats": ["vtu"]}, **common)
+    names = sorted(p.name for p in tmp_path.iterdir())
+    assert names == ["notes.txt", "scene.toml", "solution-00000.vtu", "solution.pvd"]
+
+
+def _load_everything(folder: Path) -> tuple[np.ndarray, np.ndarray]:
+    """Every output of an (interrupted) run folder, checked for agreement between formats:
+    returns the npz times and states."""
+    with np.load(folder / "states.npz") as saved:
+        times, q = saved["t"], saved["q"]
+    with meshio.xdmf.TimeSeriesReader(folder / "solution.xdmf") as reader:
+        reader.read_points_cells()
+        assert reader.num_steps == len(times)
+        for k in range(reader.num_steps):
+            t, _, cell_data = reader.read_data(k)
+            assert t == times[k]
+            np.testing.assert_array_equal(cell_data["u"][0], q[k, 0])
+    pvd = ET.parse(folder / "solution.pvd").getroot()
+    files = [d.get("file") for d in pvd.iter("DataSet")]
+    assert len(files) == len(times)
+    for k, name in enumerate(files):
+        mesh = meshio.read(folder / name)
+        assert mesh.field_data["time"][0] == times[k]
+        np.testing.assert_array_equal(mesh.cell_data["u"][0], q[k, 0])
+    return times, q
+
+
+#: A run long enough to be stopped mid-way (about 20 s of solving), with 100 output times.
+LONG_RUN = {
+    "n_cells": 50_000,
+    "reconstructor": "mc",
+    "output_times": [round(0.0025 * k, 4) for k in range(1, 100)],
+    "output.plot": False,
+}
+LONG_RUN_ARGUMENTS = [
+    *("--set", "n_cells=50000", "--set", "reconstructor=mc", "--set", "output.plot=false"),
+    *("--set", f"output_times={LONG_RUN['output_times']}"),
+    *("--set", 'output.formats=["npz", "xdmf", "vtu", "csv"]'),
+]
+
+
+@pytest.mark.skipif(not hasattr(signal, "SIGTERM"), reason="needs POSIX signals")
+@pytest.mark.parametrize("signal_number", [signal.SIGINT, signal.SIGTERM], ids=["INT", "TERM"])
+def test_a_run_stopped_by_a_signal_keeps_every_earlier_output(
+    tmp_path: Path, signal_number: int
+) -> None:
+    out = tmp_path / "out"
+    command = [CONSLAW] if CONSLAW else [sys.executable, "-m", "conslaw.cli"]
+    command += ["run", "burgers-sine", "--out", str(out), *LONG_RUN_ARGUMENTS]
+    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 240
+    while not (out / "solution-00002.vtu").exists():
+        assert process.poll() is None, process.communicate()
+        assert time.monotonic() < deadline, "the run reached no output time"
+        time.sleep(0.05)
+    process.send_signal(signal_number)
+    _, stderr = process.communicate(timeout=120)
+    assert process.returncode == 128 + signal_number, stderr
+    lines = stderr.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in stderr, stderr
+    name = signal.Signals(signal_number).name
+    assert lines[0].startswith(f"conslaw: interrupted ({name}) at t="), lines[0]
+    assert ", step " in lines[0] and f"are complete in {out}" in lines[0], lines[0]
+    stopped_at = float(lines[0].split("at t=")[1].split(",")[0])
+    times, q = _load_everything(out)
+    assert len(times) >= 3 and times[-1] < 0.25
+    assert stopped_at >= times[-1]
+    # The outputs are those of an uninterrupted run (same output times up to there).
+    kept = [t for t in LONG_RUN["output_times"] if t <= times[-1]]
+    reference = conslaw.run(
+        "burgers-sine", **{**LONG_RUN, "output_times": kept, "t_end": float(times[-1])}
+    )
+    np.testing.assert_array_equal(q, [s.q for s in reference.states])
+
+
+def test_a_failure_mid_run_keeps_every_earlier_output_and_says_so(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """An injected blow-up at the third output time: the CLI reports it in one line (exit 2)
+    and the two outputs before it load intact in every format."""
+    advance = NessyahuTadmor.advance
+    calls = []
+
+    def failing_advance(self, state, t_end, progress=None):  # type: ignore[no-untyped-def]
+        if t_end > state.t:
+            calls.append(t_end)
+            if len(calls) == 3:
+                raise InadmissibleStateError(f"inadmissible state at t={state.t:.6g}, step 7")
+        return advance(self, state, t_end, progress)
+
+    monkeypatch.setattr(NessyahuTadmor, "advance", failing_advance)
+    from conslaw.cli import main
+
+    out = tmp_path / "out"
+    arguments = ["run", "burgers-sine", "--set", "n_cells=64", "--set", "output_times=[0.05, 0.1]"]
+    arguments += ["--set", 'output.formats=["npz", "xdmf", "vtu", "csv"]', "--out", str(out)]
+    assert main(arguments) == 2
+    error = capsys.readouterr().err.strip().splitlines()
+    assert len(error) == 1 and "inadmissible state at t=0.1, step 7" in error[0]
+    assert f"outputs up to t=0.1 are complete in {out}" in error[0]
+    times, q = _load_everything(out)
+    np.testing.assert_array_equal(times, [0.05, 0.1])
+    monkeypatch.setattr(NessyahuTadmor, "advance", advance)
+    reference = conslaw.run("burgers-sine", n_cells=64, output_times=[0.05], t_end=0.1)
+    np.testing.assert_array_equal(q, [s.q for s in reference.states])
+    assert not (out / "profiles.png").exists()
+
+
+def test_nothing_is_written_when_the_first_step_fails(tmp_path: Path) -> None:
+    """A run that fails before its first output time creates no folder."""
+    process = cli(
+        "run", "dam-break-wet", "--set", "parameters.g=1e308", "--out", str(tmp_path / "o")
+    )
+    assert process.returncode == 2 and "wave speed is not finite" in process.stderr
+    assert "complete in" not in process.stderr
+    assert not (tmp_path / "o").exists()
+
+
+def test_interrupted_message_names_time_step_and_outputs() -> None:
+    from conslaw.errors import RunInterrupted
+
+    message = str(RunInterrupted(1.25, 40, 1.0, signal.SIGTERM))
+    assert message == "interrupted (SIGTERM) at t=1.25, step 40; outputs up to t=1 are complete"
+    none = RunInterrupted(0.5, 3, None, signal.SIGINT)
+    assert isinstance(none, KeyboardInterrupt) and "no output time was reached" in str(none)
+    assert (none.t, none.steps, none.last_output) == (0.5, 3, None)
