@@ -170,7 +170,9 @@ def _command_run(args: argparse.Namespace) -> int:
     rows = result.model.conserved_rows()
     if rows:
         drift = ", ".join(f"{result.model.variables[v]} {result.mass_drift[v]:+.2e}" for v in rows)
-        print(f"  relative change of conserved totals (boundary fluxes included): {drift}")
+        closed = {scene.left.kind, scene.right.kind} <= {"periodic", "wall"}
+        where = "closed domain: round-off only" if closed else "boundary fluxes included"
+        print(f"  relative change of conserved totals ({where}): {drift}")
     for path in files:
         print(f"  wrote {path}")
     return 0

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import pytest
 
@@ -37,3 +39,72 @@ def make_scheme(
 @pytest.fixture
 def rng() -> np.random.Generator:
     return np.random.default_rng(20011)
+
+
+# ----------------------------------------------------------- hypothesis examples per model
+#: Examples run per model in this session (in a worker under pytest-xdist; merged on the
+#: controller from each worker's ``workeroutput``).
+EXAMPLES_PER_MODEL: dict[str, int] = {}
+#: The key for property tests that are not about one model (chutes, scenes, reconstructors).
+NOT_MODEL_SPECIFIC = "(not model-specific)"
+#: What issue 7 asks of every CI run.
+EXAMPLES_TARGET = 1000
+
+
+def _models_of(test_name: str, arguments: dict[str, object]) -> list[str]:
+    """The models one example exercises: model names among the test's arguments (or the
+    ``model`` attribute of an argument), else model names in the test's name."""
+    names = registry.models.names()
+    found: list[str] = []
+    for value in arguments.values():
+        for candidate in (value, getattr(value, "model", None)):
+            if isinstance(candidate, str) and candidate in names and candidate not in found:
+                found.append(candidate)
+    if not found:
+        found = [name for name in names if name.replace("-", "_") in test_name]
+    return found or [NOT_MODEL_SPECIFIC]
+
+
+def _counting(inner: Any, test_name: str) -> Any:
+    """``inner`` (one example of a hypothesis test), counting each call per model."""
+
+    def run_example(*args: object, **kwargs: object) -> object:
+        for model in _models_of(test_name, kwargs):
+            EXAMPLES_PER_MODEL[model] = EXAMPLES_PER_MODEL.get(model, 0) + 1
+        return inner(*args, **kwargs)
+
+    run_example.counted = True  # type: ignore[attr-defined]
+    return run_example
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    """Count every example of every hypothesis test, per model (reported at the end). The
+    parametrized items of one test share its function: it is wrapped once."""
+    for item in items:
+        function = getattr(item, "obj", None)
+        if getattr(function, "is_hypothesis_test", False):
+            handle = function.hypothesis  # type: ignore[union-attr]
+            if not getattr(handle.inner_test, "counted", False):
+                handle.inner_test = _counting(handle.inner_test, function.__name__)  # type: ignore[union-attr]
+
+
+def pytest_sessionfinish(session: pytest.Session) -> None:
+    workeroutput = getattr(session.config, "workeroutput", None)
+    if workeroutput is not None:  # an xdist worker: hand the counts to the controller
+        workeroutput["examples_per_model"] = dict(EXAMPLES_PER_MODEL)
+
+
+def pytest_testnodedown(node: object, error: object) -> None:
+    """(xdist controller) add a finished worker's counts."""
+    counts = getattr(node, "workeroutput", {}).get("examples_per_model", {})
+    for model, count in counts.items():
+        EXAMPLES_PER_MODEL[model] = EXAMPLES_PER_MODEL.get(model, 0) + count
+
+
+def pytest_terminal_summary(terminalreporter: object) -> None:
+    if not EXAMPLES_PER_MODEL:
+        return
+    write = terminalreporter.write_line  # type: ignore[attr-defined]
+    write(f"hypothesis examples per model (target >= {EXAMPLES_TARGET} per model in a full run):")
+    for model in sorted(EXAMPLES_PER_MODEL):
+        write(f"  {model}: {EXAMPLES_PER_MODEL[model]}")

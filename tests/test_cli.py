@@ -10,7 +10,6 @@ import tomllib
 from pathlib import Path
 
 import numpy as np
-import pytest
 
 CONSLAW = shutil.which("conslaw") or ""
 
@@ -91,110 +90,8 @@ def test_resolved_scene_reruns_to_the_same_result(tmp_path: Path) -> None:
         np.testing.assert_array_equal(a["q"], b["q"])
 
 
-BAD_INPUT = [
-    (["run", "no-such-scene"], ["unknown scene 'no-such-scene'", "burgers-riemann"]),
-    (
-        ["run", "burgers-riemann", "--set", "model=burger"],
-        ["unknown model 'burger'", "did you mean 'burgers'"],
-    ),
-    (
-        ["run", "burgers-riemann", "--set", "scheme=upwind"],
-        ["unknown scheme 'upwind'", "nessyahu-tadmor"],
-    ),
-    (
-        ["run", "burgers-riemann", "--set", "reconstructor=superbe"],
-        ["unknown reconstructor", "did you mean 'superbee'"],
-    ),
-    (
-        ["run", "burgers-riemann", "--set", "n_cell=100"],
-        ["unknown scene key 'n_cell'", "did you mean 'n_cells'"],
-    ),
-    (["run", "burgers-riemann", "--set", "cfl=0.5"], ["cfl", "(0, 0.5)"]),
-    (["run", "burgers-riemann", "--set", "cfl=0.9"], ["cfl", "(0, 0.5)"]),
-    (["run", "burgers-riemann", "--set", "n_cells=3"], ["n_cells", ">= 4"]),
-    (["run", "burgers-riemann", "--set", "n_cells=abc"], ["n_cells", ">= 4"]),
-    (
-        ["run", "burgers-riemann", "--set", "initial.states=[nan, 1.0, 0.0]"],
-        ["initial.states", "finite"],
-    ),
-    (["run", "burgers-riemann", "--set", "x_max=-2"], ["x_min < x_max"]),
-    (
-        ["run", "burgers-riemann", "--set", "boundary.left=walll"],
-        ["unknown boundary condition", "did you mean 'wall'"],
-    ),
-    (["run", "burgers-riemann", "--set", "boundary.left=periodic"], ["periodic", "both sides"]),
-    (
-        ["run", "burgers-riemann", "--set", "initial.kind=cosine"],
-        ["initial.kind", "piecewise-constant"],
-    ),
-    (["run", "burgers-riemann", "--set", "parameters.g=1"], ["takes no parameters"]),
-    (["run", "burgers-riemann", "--bogus"], ["unrecognized arguments"]),
-    (["run", "burgers-riemann", "--set", "n_cells=10000000000"], ["n_cells", "<= 50000000"]),
-    (["run", "burgers-sine", "--set", "x_min=-1e308", "--set", "x_max=1e308"], ["finite length"]),
-    (
-        ["run", "burgers-riemann", "--set", 'boundary.left={kind="inflow", state=[1, "a"]}'],
-        ["boundary 'inflow' needs state", "1 numbers"],
-    ),
-    (
-        [
-            "run",
-            "sh-runout-shock",
-            "--set",
-            "parameters.chute=table",
-            "--set",
-            "parameters.chute_file=5",
-        ],
-        ["chute_file", "file name"],
-    ),
-    (["run", "dam-break-wet", "--set", "parameters.g=1e308"], ["wave speed is not finite"]),
-    (
-        ["show", "sh-similarity", "--set", "parameters.delta=40"],
-        ["must be <= internal friction angle"],
-    ),
-    (["frobnicate"], ["invalid choice"]),
-]
-
-
-@pytest.mark.parametrize(
-    ("args", "fragments"), BAD_INPUT, ids=[" ".join(a[1:]) or a[0] for a, _ in BAD_INPUT]
-)
-def test_bad_input_is_one_line_exit_2_nothing_written(
-    tmp_path: Path, args: list[str], fragments: list[str]
-) -> None:
-    out = tmp_path / "out"
-    extra = ["--out", str(out)] if args[0] == "run" and "--bogus" not in args else []
-    process = cli(*args, *extra, cwd=tmp_path)
-    assert_one_line_error(process, *fragments)
-    assert not out.exists()
-    assert not (tmp_path / "conslaw-output").exists()
-
-
-def test_malformed_scene_file(tmp_path: Path) -> None:
-    scene = tmp_path / "broken.toml"
-    scene.write_text('model = "burgers"\nn_cells = [1,\n')
-    assert_one_line_error(
-        cli("run", str(scene), "--out", str(tmp_path / "o")), "not valid TOML", "broken.toml"
-    )
-
-
-def test_unknown_key_in_scene_file(tmp_path: Path) -> None:
-    scene = tmp_path / "typo.toml"
-    scene.write_text(
-        'model = "burgers"\nn_cells = 10\nx_min = 0.0\nx_max = 1.0\nt_end = 0.1\n'
-        'recontructor = "mc"\n'
-        '[initial]\nkind = "sine"\nmean = 0.0\namplitude = 0.1\n'
-    )
-    assert_one_line_error(
-        cli("run", str(scene)), "unknown scene key 'recontructor'", "did you mean 'reconstructor'"
-    )
-
-
-def test_unwritable_output_directory(tmp_path: Path) -> None:
-    blocker = tmp_path / "file"
-    blocker.write_text("keep me")
-    process = cli("run", "burgers-sine", "--out", str(blocker / "sub"))
-    assert_one_line_error(process, "output directory")
-    assert blocker.read_text() == "keep me"
+# The bad-input cases (one error line, exit code 2, nothing written) are collected in
+# tests/test_bad_input.py.
 
 
 def test_show_prints_the_resolved_scene() -> None:

@@ -8,7 +8,6 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from test_cli import assert_one_line_error, cli
 
 import conslaw
 from conslaw.convergence import convergence_study
@@ -143,11 +142,6 @@ def test_margin_fit_is_exact_for_a_quadratic() -> None:
 def test_refused_at_set_up(scene: str, overrides: dict, fragment: str) -> None:
     with pytest.raises(ConfigError, match=fragment):
         conslaw.run(scene, **overrides)
-
-
-def test_burgers_front_tracking_is_one_line_error() -> None:
-    process = cli("run", "burgers-riemann", "--set", "front_tracking=true")
-    assert_one_line_error(process, "front_tracking", "depth variable")
 
 
 def test_two_bodies_refused(tmp_path: Path) -> None:

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from test_cli import assert_one_line_error, cli
+from test_cli import cli
 
 import conslaw
 from conslaw import registry
@@ -222,32 +222,6 @@ def test_table_chute_from_angles_and_from_a_terrain_profile(tmp_path: Path) -> N
     bottom = -20.0 + radius * math.asin(20.0 / radius)
     assert valley.zeta(np.array([bottom]))[0] == pytest.approx(0.0, abs=2e-3)
     assert valley.curvature(np.array([bottom]))[0] == pytest.approx(1.0 / radius, rel=0.05)
-
-
-@pytest.mark.parametrize(
-    ("setting", "fragment"),
-    [
-        ("parameters.delta=35", "must be <= internal friction angle"),
-        ("parameters.epsilon=0", "epsilon: must be > 0"),
-        ("parameters.epsilon=-1", "epsilon: must be > 0"),
-        ("parameters.zeta=95", "angle must be in (-90, 90)"),
-        ("parameters.zeta=-90", "angle must be in (-90, 90)"),
-        ("parameters.earth_pressure=rankine", "allowed: savage-hutter, isotropic"),
-        ("parameters.chute=tube", "allowed: plane, paper, table"),
-    ],
-)
-def test_bad_savage_hutter_input(setting: str, fragment: str) -> None:
-    assert_one_line_error(cli("run", "sh-similarity", "--set", setting), fragment)
-
-
-def test_chute_table_that_is_not_increasing(tmp_path: Path) -> None:
-    table = tmp_path / "chute.csv"
-    table.write_text("x,zeta\n0,40\n2,40\n1,30\n3,20\n4,10\n")
-    process = cli(
-        "run", "sh-runout-shock", "--set", "parameters.chute=table",
-        "--set", f'parameters.chute_file="{table}"',
-    )  # fmt: skip
-    assert_one_line_error(process, "strictly increasing")
 
 
 def test_terrain_example_scene_runs_from_anywhere(tmp_path: Path) -> None:

@@ -41,7 +41,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from conslaw.errors import ConfigError, SchemeBreakdownError
+from conslaw.errors import ConfigError, InadmissibleStateError, SchemeBreakdownError
 from conslaw.grid import Grid
 from conslaw.initial import InitialCondition
 from conslaw.model import Model
@@ -311,6 +311,8 @@ class FrontTrackingNT(NessyahuTadmor):
     handled in numpy (O(1) work per step), the rest of the update is the numpy NT step.
     """
 
+    needs_single_body = True
+
     def __init__(
         self,
         model: Model,
@@ -509,7 +511,13 @@ class FrontTrackingNT(NessyahuTadmor):
     def _raw_step(self, state: State, dt: float, steps: int) -> State:
         _, staggered = self._family(state)
         profiles = self._profiles(state)
-        moved = self._move_margins(profiles, dt)
+        try:
+            moved = self._move_margins(profiles, dt)
+        except ValueError as error:  # a Margin refuses a non-finite position or velocity
+            raise InadmissibleStateError(
+                f"a margin is not finite (overflow) at t={state.t + dt:.6g}, step {steps + 1}: "
+                f"{error}; check the magnitudes of the parameters"
+            ) from None
         hooks = MarginCellHooks(profiles, moved, self.grid.dx, self.model.dry_depth())
         new = self._numpy_update(state.q, staggered, dt, hooks)
         offset = 0.0 if staggered else 0.5
@@ -557,21 +565,24 @@ class FrontTrackingNT(NessyahuTadmor):
             last = 2.0 * dt >= t_end - state.t
             if last:
                 dt = 0.5 * (t_end - state.t)
+            accepted = False
             for _ in range(MAX_RETRIES):
+                if dt < dt_floor and not last:
+                    break
                 try:
                     middle = self._raw_step(state, dt, steps)
+                    self.check_admissible(middle, steps + 1)
                     if dt > self.stable_dt(middle, cfl=0.4999999999999999):
                         raise _RetryStepError
                     end = self._raw_step(middle, dt, steps + 1)
+                    accepted = True
                     break
                 except _RetryStepError:
                     dt *= 0.5
                     last = False
-                    if dt < dt_floor:
-                        break
-            else:
-                dt = 0.0
-            if dt < dt_floor:
+            if not accepted:
+                # The last pair of a run may be shorter than the floor: it only closes the
+                # round-off gap to t_end (as in the compiled kernel).
                 raise SchemeBreakdownError(
                     f"time step {dt:.3g} fell below the floor {DT_FLOOR_RELATIVE:g}*dx at "
                     f"t={state.t:.6g}, step {steps}"

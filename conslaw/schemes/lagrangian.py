@@ -83,6 +83,8 @@ MARGIN_SEARCH_STEPS = 40
 #: sh-runout-shock, mu = 0: 1000 elements reach 1e4 times with time steps of 1e-9, whereas the
 #: physical deposit is about as deep as the initial cap).
 GROWTH_LIMIT = 100.0
+#: How a breakdown message says that a margin left the domain (no viscosity hint then).
+DOMAIN_EXIT = "left the domain"
 #: Depths below this fraction of the largest are round-off, not material.
 ROUND_OFF = 64.0 * np.finfo(np.float64).eps
 #: Steps between progress reports.
@@ -189,6 +191,7 @@ class LagrangianScheme(Scheme):
         "artificial viscosity mu"
     )
     uses_reconstructor = False
+    needs_single_body = True
     options: ClassVar[Mapping[str, SchemeOption]] = {
         "viscosity": SchemeOption(
             0.0,
@@ -418,10 +421,14 @@ class LagrangianScheme(Scheme):
         return np.inf if largest == 0.0 else cfl / largest
 
     def _breakdown(self, message: str, t: float, steps: int, last: State | None) -> NoReturn:
+        hint = (
+            ""
+            if DOMAIN_EXIT in message
+            else f" (artificial viscosity is {self.viscosity:g}; a shock needs some, e.g. "
+            "--set scheme_options.viscosity=0.02)"
+        )
         raise SchemeBreakdownError(
-            f"{message} at t={t:.6g}, step {steps}; the Lagrangian scheme cannot continue "
-            f"(artificial viscosity is {self.viscosity:g}; a shock needs some, e.g. "
-            "--set scheme_options.viscosity=0.02)",
+            f"{message} at t={t:.6g}, step {steps}; the Lagrangian scheme cannot continue{hint}",
             state=last,
         )
 
@@ -473,7 +480,7 @@ class LagrangianScheme(Scheme):
         ):
             if beyond:
                 raise _MeshBrokenError(
-                    f"the {side} left the domain (x={position:.6g}); enlarge it (x_min/x_max)"
+                    f"the {side} {DOMAIN_EXIT} (x={position:.6g}); enlarge it (x_min/x_max)"
                 )
 
     # ------------------------------------------------------------------ Scheme interface

@@ -19,7 +19,13 @@ from conslaw.kernels.constants import DEPTH_SLOPE_LIMIT
 from conslaw.model import Model
 from conslaw.reconstruct import Reconstructor
 from conslaw.reconstruct.base import STENCIL_HALF_WIDTH
-from conslaw.schemes.base import AdvanceResult, BoundarySpec, ProgressCallback, Scheme
+from conslaw.schemes.base import (
+    DT_FLOOR_RELATIVE,
+    AdvanceResult,
+    BoundarySpec,
+    ProgressCallback,
+    Scheme,
+)
 from conslaw.state import State
 
 Array = NDArray[np.float64]
@@ -29,8 +35,6 @@ GHOSTS = 1 + STENCIL_HALF_WIDTH
 #: Cell updates per call of the compiled kernel between progress reports (0.01-0.1 s at the
 #: measured 4e7-4e8 cell updates per second; a call itself costs about 10 microseconds).
 CELL_UPDATES_PER_CALL = 4_000_000
-#: Smallest accepted time step relative to dx (below it the run stops instead of hanging).
-DT_FLOOR_RELATIVE = 1e-14
 
 
 def _resist(momentum: Array, impulse: Array) -> Array:
@@ -155,9 +159,12 @@ class NessyahuTadmor(Scheme):
         for condition, ghosts, boundary, edge in sides:
             rule = condition.ghost_coefficients
             if rule == "wrap":
-                centre[ghosts] = self.grid.x_min + np.mod(
-                    x[ghosts] - self.grid.x_min, self.grid.length
-                )
+                # The ghost takes the position of the real cell it copies, by index: wrapping
+                # positions by the period would put a staggered ghost that lands on the period's
+                # end (x = x_max -+ round-off) on the wrong side of it, and a chute or bed that
+                # is not periodic would then differ between the ghost and its cell (mass lost).
+                index = np.arange(x.size)[ghosts]
+                centre[ghosts] = x[GHOSTS + np.mod(index - GHOSTS, n)]
             elif rule == "mirror":
                 centre[ghosts] = 2.0 * boundary - x[ghosts]
                 direction[ghosts] = -1.0
@@ -224,8 +231,14 @@ class NessyahuTadmor(Scheme):
 
     # ------------------------------------------------------------------ Scheme interface
     def stable_dt(self, state: State, cfl: float | None = None) -> float:
-        """``cfl * dx / a_max`` (paper eqs. 17-18); infinite for a state at rest."""
+        """The time step :meth:`advance` takes from ``state``: ``cfl * dx / a_max`` (paper eqs.
+        17-18), and at most :meth:`source_step_limit`; infinite for a state at rest without a
+        source."""
         cfl = self.cfl if cfl is None else validate_cfl(cfl)
+        return min(self._wave_dt(state, cfl), self.source_step_limit(state, cfl))
+
+    def _wave_dt(self, state: State, cfl: float) -> float:
+        """``cfl * dx / a_max`` (paper eqs. 17-18); infinite for a state at rest."""
         n, staggered = self._family(state)
         aux = self._aux[0.5 if staggered else 0.0][0][:, GHOSTS : GHOSTS + n]
         speed = self.model.max_wave_speed(state.q, aux)
@@ -233,6 +246,32 @@ class NessyahuTadmor(Scheme):
             self.check_admissible(state, step=0)
         largest = float(speed.max()) if speed.size else 0.0
         return np.inf if largest == 0.0 else cfl * self.grid.dx / largest
+
+    def source_step_limit(self, state: State, cfl: float | None = None) -> float:
+        """``sqrt(cfl dx / (2 a))`` with ``a = max |s_m| / h`` the largest acceleration the source
+        gives a wet cell (``g |b_x|``, ``sin zeta``); infinite for a model without a driving
+        source or without a depth.
+
+        Over a step pair from rest the source builds up the velocity ``2 a dt``, which must
+        itself meet the CFL condition: ``2 a dt^2 / dx <= cfl``. The wave speed alone does not see
+        this: for a thin layer on a slope it is ``sqrt(g h) -> 0`` and gives an enormous step,
+        whose predicted momentum ``dt a h / 2`` then drains more than the cell holds (a layer of
+        1e-12 on a bed slope needed about 500 halvings of the step to stay >= 0, and the run
+        stopped). The kernel's ``source_step_limit`` is the same bound.
+        """
+        cfl = self.cfl if cfl is None else validate_cfl(cfl)
+        depth, momentum = self.model.depth_index, self.model.momentum_index
+        if depth is None or momentum is None or not self.uses["source"]:
+            return np.inf
+        n, staggered = self._family(state)
+        aux = self._aux[0.5 if staggered else 0.0][0][:, GHOSTS : GHOSTS + n]
+        h = state.q[depth]
+        wet = h > 0.0
+        if not wet.any():
+            return np.inf
+        source = self.model.source(state.q[:, wet], aux[:, wet])[momentum]
+        largest = float(np.max(np.abs(source) / h[wet]))
+        return np.inf if not largest > 0.0 else float(np.sqrt(cfl * self.grid.dx / (2 * largest)))
 
     def step(self, state: State, dt: float) -> State:
         """One compiled NT step to the other cell family (offset 0 <-> 1/2)."""
@@ -273,7 +312,7 @@ class NessyahuTadmor(Scheme):
     def _check_step(self, state: State, dt: float) -> None:
         if not (np.isfinite(dt) and dt > 0.0):
             raise ConfigError(f"dt must be a positive number, got {dt!r}")
-        if dt > self.stable_dt(state, cfl=0.4999999999999999):
+        if dt > self._wave_dt(state, 0.4999999999999999):
             raise ConfigError(
                 f"dt={dt:g} violates the CFL condition dt*a_max/dx < 1/2 (paper eq. 17)"
             )
@@ -344,7 +383,35 @@ class NessyahuTadmor(Scheme):
         if self.uses["correction"]:
             aux_dst = self._aux[0.0 if staggered else 0.5][0][:, GHOSTS : GHOSTS + n_dst]
             new = model.correct(new, aux_dst, dt)
+        if model.depth_index is not None and momentum is not None:
+            self._bound_velocities(w, centre, first, dt, new)
         return new
+
+    def _bound_velocities(self, w: Array, centre: Array, first: int, dt: float, new: Array) -> None:
+        """numpy version of the kernel's ``bound_velocities``: the velocity of every new wet cell
+        stays between the smallest ``u - 2c`` and the largest ``u + 2c`` of the four cells its
+        update reads, widened by ``dt (|s_m| + R) / h``."""
+        model = self.model
+        d, m = model.depth_index, model.momentum_index
+        assert d is not None and m is not None
+        n_dst = new.shape[1]
+        cells = slice(first - 1, first + n_dst + 2)
+        q, aux = w[:, cells], centre[:, cells]
+        h = q[d]
+        wet = (h >= model.dry_depth()) & (h > 0.0)
+        u = np.where(wet, q[m] / np.where(wet, h, 1.0), 0.0)
+        c = np.maximum(model.max_wave_speed(q, aux) - np.abs(u), 0.0)
+        rate = np.abs(model.source(q, aux)[m]) + model.resistance(q, aux)
+        change = np.where(h > 0.0, rate / np.where(h > 0.0, h, 1.0), 0.0)
+        low, high = u - 2.0 * c - dt * change, u + 2.0 * c + dt * change
+        lo = np.minimum(np.minimum(low[:-3], low[1:-2]), np.minimum(low[2:-1], low[3:]))
+        hi = np.maximum(np.maximum(high[:-3], high[1:-2]), np.maximum(high[2:-1], high[3:]))
+        h_new = new[d]
+        wet_new = (h_new >= model.dry_depth()) & (h_new > 0.0)
+        u_new = np.where(wet_new, new[m] / np.where(wet_new, h_new, 1.0), 0.0)
+        new[m] = np.where(
+            wet_new & (u_new < lo), lo * h_new, np.where(wet_new & (u_new > hi), hi * h_new, new[m])
+        )
 
     def _reference_slopes(
         self, w: Array, centre: Array, stencil: slice, cells: slice, data_w: Array | None = None

@@ -1,0 +1,498 @@
+"""The bad-input catalogue (issue 7): malformed scenes, scene files, tables and API calls.
+
+Every command-line case must end with exactly one line ``conslaw: error: ...`` on stderr that
+names what is wrong (the fragments listed with the case), exit code 2, no traceback, and no file
+written or changed: each case runs in an empty folder holding an earlier run's output
+(``earlier/``, also the ``--out`` folder of every ``run``), which must come out byte for byte and
+timestamp for timestamp the same, with nothing added. The cases run in process through
+``conslaw.cli.main``, the console script's entry point (a subprocess costs about 1.5 s each);
+``test_console_script_behaves_the_same`` runs three of them through the installed ``conslaw``
+command. Python API cases raise :class:`ConfigError` with a one-line message and write nothing.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import pytest
+from test_cli import assert_one_line_error, cli
+
+import conslaw
+from conslaw.config import load_scene
+from conslaw.errors import ConfigError
+
+#: A valid scene file; file cases replace or add lines.
+SCENE = """model = "burgers"
+n_cells = 16
+x_min = 0.0
+x_max = 1.0
+t_end = 0.05
+
+[initial]
+kind = "sine"
+mean = 0.0
+amplitude = 0.1
+"""
+SH = ["run", "sh-similarity", "--set"]
+SW = ["run", "dam-break-wet", "--set"]
+RIEMANN = ["run", "burgers-riemann", "--set"]
+
+
+def scene_file(text: str) -> dict[str, str]:
+    """Files of a case that runs ``bad.toml``."""
+    return {"bad.toml": text}
+
+
+def table_chute(rows: str) -> tuple[list[str], dict[str, str]]:
+    """A Savage–Hutter run on the chute table ``chute.csv`` with content ``rows``: (arguments,
+    files)."""
+    args = ["run", "sh-runout-shock", "--set", "parameters.chute=table", "--set",
+            'parameters.chute_file="chute.csv"']  # fmt: skip
+    return args, {"chute.csv": rows}
+
+
+BadInput = tuple[str, list[str], list[str], dict[str, str]]
+
+
+def bad(
+    case_id: str,
+    args: list[str] | tuple[list[str], dict[str, str]],
+    fragments: list[str],
+    files: dict[str, str] | None = None,
+) -> BadInput:
+    """A case: its id, the command-line arguments (or arguments and files), the fragments its
+    error line must contain, and the files to create first."""
+    if isinstance(args, tuple):
+        args, files = args
+    return case_id, args, fragments, files or {}
+
+
+#: (id, arguments, fragments the error line must contain, files to create first)
+CASES: list[BadInput] = [
+    # ---- unknown names, with the allowed values and a close match
+    bad(
+        "unknown-scene",
+        ["run", "no-such-scene"],
+        ["unknown scene 'no-such-scene'", "burgers-riemann"],
+        {},
+    ),
+    bad(
+        "unknown-model",
+        [*RIEMANN, "model=burger"],
+        ["unknown model 'burger'", "did you mean 'burgers'"],
+        {},
+    ),
+    bad(
+        "unknown-scheme",
+        [*RIEMANN, "scheme=upwind"],
+        ["unknown scheme 'upwind'", "nessyahu-tadmor"],
+        {},
+    ),
+    bad(
+        "unknown-reconstructor",
+        [*RIEMANN, "reconstructor=superbe"],
+        ["unknown reconstructor", "did you mean 'superbee'"],
+        {},
+    ),
+    bad(
+        "unknown-boundary",
+        [*RIEMANN, "boundary.left=walll"],
+        ["unknown boundary condition", "did you mean 'wall'"],
+        {},
+    ),
+    bad(
+        "unknown-initial-kind",
+        [*RIEMANN, "initial.kind=cosine"],
+        ["initial.kind", "piecewise-constant"],
+        {},
+    ),
+    bad(
+        "unknown-earth-pressure",
+        [*SH, "parameters.earth_pressure=rankine"],
+        ["allowed: savage-hutter, isotropic"],
+        {},
+    ),
+    bad("unknown-chute", [*SH, "parameters.chute=tube"], ["allowed: plane, paper, table"], {}),
+    bad(
+        "unknown-output-format", [*RIEMANN, 'output.formats=["vtk"]'], ["output.formats", "npz"], {}
+    ),
+    bad("unknown-command", ["frobnicate"], ["invalid choice"], {}),
+    bad("unknown-option", ["run", "burgers-riemann", "--bogus"], ["unrecognized arguments"], {}),
+    # ---- unknown keys
+    bad(
+        "unknown-key",
+        [*RIEMANN, "n_cell=100"],
+        ["unknown scene key 'n_cell'", "did you mean 'n_cells'"],
+        {},
+    ),
+    bad(
+        "unknown-key-in-file",
+        ["run", "bad.toml"],
+        ["unknown scene key 'recontructor'", "did you mean 'reconstructor'"],
+        scene_file(SCENE.replace('model = "burgers"', 'model = "burgers"\nrecontructor = "mc"')),
+    ),
+    bad("unknown-parameter", [*RIEMANN, "parameters.g=1"], ["takes no parameters"], {}),
+    bad(
+        "unknown-sh-parameter",
+        [*SH, "parameters.phii=30"],
+        ["unknown parameter", "did you mean 'phi'"],
+        {},
+    ),
+    bad("unknown-output-key", [*RIEMANN, "output.colour=red"], ["unknown key in [output]"], {}),
+    bad(
+        "unknown-initial-key",
+        [*RIEMANN, "initial.amplitude=1"],
+        ["key in [initial]", "amplitude"],
+        {},
+    ),
+    bad(
+        "boundary-option-not-allowed",
+        [*RIEMANN, 'boundary.left={kind="outflow", state=[1.0]}'],
+        ["takes no options"],
+        {},
+    ),
+    # ---- missing required keys
+    bad(
+        "missing-t_end",
+        ["run", "bad.toml"],
+        ["scene key 't_end' is required"],
+        scene_file(SCENE.replace("t_end = 0.05\n", "")),
+    ),
+    bad(
+        "missing-model",
+        ["run", "bad.toml"],
+        ["scene key 'model' is required"],
+        scene_file(SCENE.replace('model = "burgers"\n', "")),
+    ),
+    bad(
+        "missing-initial-option",
+        ["run", "bad.toml"],
+        ["initial.amplitude is required"],
+        scene_file(SCENE.replace("amplitude = 0.1\n", "")),
+    ),
+    bad("missing-inflow-state", [*RIEMANN, 'boundary.left={kind="inflow"}'], ["state"], {}),
+    # ---- wrong types
+    bad("n_cells-not-a-number", [*RIEMANN, "n_cells=abc"], ["n_cells", ">= 4"], {}),
+    bad("n_cells-float", [*RIEMANN, "n_cells=10.5"], ["n_cells", "integer"], {}),
+    bad("cfl-string", [*RIEMANN, 'cfl="fast"'], ["cfl", "finite number"], {}),
+    bad("t_end-bool", [*RIEMANN, "t_end=true"], ["t_end", "finite number"], {}),
+    bad(
+        "output_times-not-a-list",
+        [*RIEMANN, "output_times=0.5"],
+        ["output_times", "list of numbers"],
+        {},
+    ),
+    bad("boundary-not-a-table", [*RIEMANN, "boundary=5"], ["boundary", "table"], {}),
+    bad("parameters-not-a-table", [*RIEMANN, "parameters=3"], ["parameters", "table"], {}),
+    bad("exact-not-bool", [*RIEMANN, 'exact="yes"'], ["exact", "true or false"], {}),
+    bad(
+        "front_tracking-not-bool",
+        [*SH, "front_tracking=1"],
+        ["front_tracking", "true or false"],
+        {},
+    ),
+    bad(
+        "chute_file-not-a-name",
+        [*SH, "parameters.chute=table", "--set", "parameters.chute_file=5"],
+        ["chute_file", "file name"],
+        {},
+    ),
+    bad(
+        "inflow-state-not-numbers",
+        [*RIEMANN, 'boundary.left={kind="inflow", state=[1, "a"]}'],
+        ["boundary 'inflow' needs state", "1 numbers"],
+        {},
+    ),
+    bad("description-not-string", [*RIEMANN, "description=5"], ["description", "string"], {}),
+    bad(
+        "set-without-equals",
+        ["run", "burgers-riemann", "--set", "n_cells"],
+        ["--set expects key=value"],
+        {},
+    ),
+    # ---- out of range, units, angles
+    bad("cfl-half", [*RIEMANN, "cfl=0.5"], ["cfl", "(0, 0.5)"], {}),
+    bad("cfl-above-half", [*RIEMANN, "cfl=0.9"], ["cfl", "(0, 0.5)"], {}),
+    bad("n_cells-too-small", [*RIEMANN, "n_cells=3"], ["n_cells", ">= 4"], {}),
+    bad("n_cells-too-large", [*RIEMANN, "n_cells=10000000000"], ["n_cells", "<= 50000000"], {}),
+    bad("x_max-below-x_min", [*RIEMANN, "x_max=-2"], ["x_min < x_max"], {}),
+    bad(
+        "domain-infinite-length",
+        ["run", "burgers-sine", "--set", "x_min=-1e308", "--set", "x_max=1e308"],
+        ["finite length"],
+        {},
+    ),
+    bad("t_end-negative", [*RIEMANN, "t_end=-1.0"], ["t_end", "> 0"], {}),
+    bad("output_time-after-t_end", [*RIEMANN, "output_times=[2.0]"], ["output_times", "t_end"], {}),
+    bad(
+        "delta-above-phi", [*SH, "parameters.delta=35"], ["must be <= internal friction angle"], {}
+    ),
+    bad(
+        "delta-just-above-phi",
+        [*SH, "parameters.delta=30.000000001"],
+        ["must be <= internal friction angle"],
+        {},
+    ),
+    bad(
+        "delta-above-phi-show",
+        ["show", "sh-similarity", "--set", "parameters.delta=40"],
+        ["must be <= internal friction angle"],
+        {},
+    ),
+    bad("phi-90-degrees", [*SH, "parameters.phi=90"], ["phi", "[0, 90)"], {}),
+    bad("delta-negative", [*SH, "parameters.delta=-5"], ["delta", "[0, 90)"], {}),
+    bad("zeta-95-degrees", [*SH, "parameters.zeta=95"], ["angle must be in (-90, 90)"], {}),
+    bad("zeta-minus-90", [*SH, "parameters.zeta=-90"], ["angle must be in (-90, 90)"], {}),
+    bad(
+        "zeta_end-out-of-range",
+        ["run", "sh-runout-shock", "--set", "parameters.zeta_end=100"],
+        ["zeta_end", "(-90, 90)"],
+        {},
+    ),
+    bad(
+        "transition-reversed",
+        ["run", "sh-runout-shock", "--set", "parameters.transition_end=20"],
+        ["transition_end must be > transition_start"],
+        {},
+    ),
+    bad("epsilon-zero", [*SH, "parameters.epsilon=0"], ["epsilon: must be > 0"], {}),
+    bad("epsilon-negative", [*SH, "parameters.epsilon=-1"], ["epsilon: must be > 0"], {}),
+    bad("gravity-negative", [*SW, "parameters.g=-9.81"], ["gravity must be > 0"], {}),
+    bad(
+        "dry_tolerance-too-large",
+        [*SW, "parameters.dry_tolerance=1"],
+        ["dry_tolerance", "[0, 1e-3)"],
+        {},
+    ),
+    # ---- NaN, inf and inadmissible states
+    bad(
+        "nan-in-states",
+        [*RIEMANN, "initial.states=[nan, 1.0, 0.0]"],
+        ["initial.states", "finite"],
+        {},
+    ),
+    bad(
+        "inf-in-states",
+        [*RIEMANN, "initial.states=[inf, 1.0, 0.0]"],
+        ["initial.states", "finite"],
+        {},
+    ),
+    bad("nan-cfl", [*RIEMANN, "cfl=nan"], ["cfl", "finite number"], {}),
+    bad("inf-t_end", [*RIEMANN, "t_end=inf"], ["t_end", "finite number"], {}),
+    bad("nan-parameter", [*SH, "parameters.zeta=nan"], ["zeta", "finite number"], {}),
+    bad(
+        "negative-depth",
+        [*SW, "initial.states=[[-1.0, 0.0], [1.0, 0.0]]"],
+        ["initial.states[0]", "not an admissible state"],
+        {},
+    ),
+    bad(
+        "momentum-in-dry-cell",
+        [*SW, "initial.states=[[0.0, 1.0], [1.0, 0.0]]"],
+        ["initial.states[0]", "not an admissible state"],
+        {},
+    ),
+    bad(
+        "breakpoints-not-increasing",
+        [*RIEMANN, "initial.breakpoints=[1.0, 0.0]"],
+        ["increasing"],
+        {},
+    ),
+    bad("states-count", [*RIEMANN, "initial.states=[1.0, 2.0]"], ["3 entries"], {}),
+    bad("wave-speed-overflows", [*SW, "parameters.g=1e308"], ["wave speed is not finite"], {}),
+    # ---- models, schemes and boundaries that do not fit together
+    bad("periodic-one-side", [*RIEMANN, "boundary.left=periodic"], ["periodic", "both sides"], {}),
+    bad(
+        "front-tracking-burgers",
+        [*RIEMANN, "front_tracking=true"],
+        ["front_tracking", "depth variable"],
+        {},
+    ),
+    bad(
+        "sine-for-two-variables",
+        [*SW, 'initial={kind="sine", mean=1.0, amplitude=0.1}'],
+        ["sine", "scalar model"],
+        {},
+    ),
+    # ---- files and tables
+    bad(
+        "malformed-toml",
+        ["run", "bad.toml"],
+        ["not valid TOML", "bad.toml"],
+        scene_file('model = "burgers"\nn_cells = [1,\n'),
+    ),
+    bad(
+        "scene-file-missing",
+        ["run", "missing.toml"],
+        ["scene file 'missing.toml' does not exist"],
+        {},
+    ),
+    bad(
+        "chute-table-not-increasing",
+        table_chute("x,zeta\n0,40\n2,40\n1,30\n3,20\n4,10\n"),
+        ["strictly increasing"],
+    ),
+    bad("chute-table-empty", table_chute("x,zeta\n"), ["chute_file", "at least 5 rows"]),
+    bad(
+        "chute-table-hole",
+        table_chute("x,zeta\n0,40\n1,\n2,30\n3,20\n4,10\n"),
+        ["empty or non-finite"],
+    ),
+    bad(
+        "chute-table-bad-header",
+        table_chute("s,angle\n0,40\n1,40\n2,30\n3,20\n4,10\n"),
+        ["header 'x,zeta'"],
+    ),
+    bad(
+        "chute-table-angle-90", table_chute("x,zeta\n0,90\n1,40\n2,30\n3,20\n4,10\n"), ["(-90, 90)"]
+    ),
+    bad(
+        "chute-table-missing",
+        [
+            "run",
+            "sh-runout-shock",
+            "--set",
+            "parameters.chute=table",
+            "--set",
+            'parameters.chute_file="nowhere.csv"',
+        ],
+        ["cannot read", "nowhere.csv"],
+        {},
+    ),
+    bad(
+        "unwritable-output-directory",
+        ["run", "burgers-sine", "--out", "blocker/sub"],
+        ["output directory", "not a folder"],
+        {"blocker": "keep me"},
+    ),
+    bad(
+        "output-is-a-file",
+        ["run", "burgers-sine", "--out", "blocker"],
+        ["output directory", "blocker"],
+        {"blocker": "keep me"},
+    ),
+    bad(
+        "convergence-bad-cells",
+        ["convergence", "dam-break-wet", "--cells", "10,abc"],
+        ["--cells"],
+        {},
+    ),
+]
+
+
+def run_in_process(args: list[str], capsys: pytest.CaptureFixture[str]) -> tuple[int, str, str]:
+    """``conslaw ARGS`` through the console script's entry point: (exit code, stdout, stderr)."""
+    from conslaw.cli import main
+
+    try:
+        code = main(args)
+    except SystemExit as exit_:
+        code = int(exit_.code or 0)
+    captured = capsys.readouterr()
+    return code, captured.out, captured.err
+
+
+def snapshot(folder: Path) -> dict[str, tuple[int, bytes]]:
+    """Every file and folder under ``folder`` with its modification time and content."""
+    return {
+        str(p.relative_to(folder)): (p.stat().st_mtime_ns, p.read_bytes() if p.is_file() else b"")
+        for p in sorted(folder.rglob("*"))
+    }
+
+
+def prepare(folder: Path, files: dict[str, str]) -> None:
+    """An earlier run's output and the case's files."""
+    (folder / "earlier").mkdir()
+    (folder / "earlier" / "states.npz").write_bytes(b"an earlier run's output")
+    for name, text in files.items():
+        (folder / name).write_text(text)
+
+
+@pytest.mark.parametrize(
+    ("args", "fragments", "files"), [c[1:] for c in CASES], ids=[c[0] for c in CASES]
+)
+def test_bad_input_is_one_line_exit_2_nothing_written(
+    args: list[str],
+    fragments: list[str],
+    files: dict[str, str],
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    prepare(tmp_path, files)
+    before = snapshot(tmp_path)
+    if args[0] == "run" and "--out" not in args and "--bogus" not in args:
+        args = [*args, "--out", "earlier"]
+    code, out, err = run_in_process(args, capsys)
+    assert code == 2, (code, out, err)
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("conslaw: error: "), err
+    assert "Traceback" not in err
+    for fragment in fragments:
+        assert fragment in lines[0], lines[0]
+    assert snapshot(tmp_path) == before, "a file was written or changed"
+
+
+def test_the_catalogue_has_at_least_30_cases() -> None:
+    assert len(CASES) >= 30 and len({c[0] for c in CASES}) == len(CASES)
+
+
+@pytest.mark.parametrize(
+    "case", ["unknown-scene", "malformed-toml", "wave-speed-overflows"], ids=str
+)
+def test_console_script_behaves_the_same(case: str, tmp_path: Path) -> None:
+    """Three cases through the installed ``conslaw`` command (a fresh interpreter)."""
+    _, args, fragments, files = next(c for c in CASES if c[0] == case)
+    prepare(tmp_path, files)
+    before = snapshot(tmp_path)
+    if args[0] == "run":
+        args = [*args, "--out", "earlier"]
+    assert_one_line_error(cli(*args, cwd=tmp_path), *fragments)
+    assert snapshot(tmp_path) == before
+
+
+# ---------------------------------------------------------------------- Python API
+API_CASES: list[tuple[str, dict[str, Any], str]] = [
+    ("n_cells as a string", {"n_cells": "100"}, "n_cells"),
+    ("reconstructor as a number", {"reconstructor": 5}, "expected a name"),
+    ("angle as a string", {"parameters__zeta": "steep"}, "finite number"),
+    ("delta above phi", {"parameters__delta": 31.0}, "internal friction angle"),
+    ("unknown keyword", {"resolution": 100}, "unknown scene key 'resolution'"),
+    ("NaN epsilon", {"parameters__epsilon": float("nan")}, "epsilon"),
+    ("inf output time", {"output_times": [float("inf")]}, "finite number"),
+    ("output times beyond t_end", {"output_times": [99.0]}, "output_times"),
+    ("boundary option of the wrong boundary",
+     {"boundary__left": {"kind": "wall", "state": [1]}}, "no options"),
+    ("front tracking on a thin layer", {"front_tracking": True}, "fills the whole domain"),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("overrides", "fragment"), [c[1:] for c in API_CASES], ids=[c[0] for c in API_CASES]
+)
+def test_api_bad_input_is_a_one_line_config_error(
+    overrides: dict[str, Any], fragment: str, tmp_path: Path
+) -> None:
+    """``conslaw.run`` on the similarity scene with one bad override: ConfigError, one line
+    naming the problem, and the output folder untouched."""
+    (tmp_path / "earlier").mkdir()
+    (tmp_path / "earlier" / "states.npz").write_bytes(b"kept")
+    before = snapshot(tmp_path)
+    with pytest.raises(ConfigError) as error:
+        conslaw.run("sh-similarity", out=tmp_path / "earlier", **overrides)
+    message = str(error.value)
+    assert "\n" not in message and fragment in message, message
+    assert snapshot(tmp_path) == before
+
+
+def test_api_refuses_overrides_of_a_scene_object_and_an_unwritable_folder(tmp_path: Path) -> None:
+    scene = load_scene("burgers-sine")
+    with pytest.raises(ConfigError, match="overrides need a scene name"):
+        conslaw.run(scene, n_cells=10)
+    blocker = tmp_path / "blocker"
+    blocker.write_text("keep me")
+    with pytest.raises(ConfigError, match="not writable"):
+        conslaw.run("burgers-sine", out=blocker / "sub")
+    assert blocker.read_text() == "keep me" and sorted(tmp_path.iterdir()) == [blocker]
