@@ -66,7 +66,7 @@ class InitialCondition:
         kind = table.get("kind")
         if kind is None:
             raise ConfigError(f"initial.kind is required; allowed: {', '.join(sorted(kinds))}")
-        if kind not in kinds:
+        if not isinstance(kind, str) or kind not in kinds:
             raise ConfigError(unknown_name_message("initial.kind", str(kind), kinds))
         required, defaults, _ = kinds[kind]
         allowed = {"kind", *required, *defaults}

@@ -77,7 +77,7 @@ class Registry(Generic[T]):
     def get(self, name: str) -> T:
         """The entry called ``name``; ConfigError naming the allowed values otherwise."""
         self._load()
-        if name not in self._entries:
+        if not isinstance(name, str) or name not in self._entries:
             raise ConfigError(unknown_name_message(self.kind, str(name), self._entries))
         return self._entries[name]
 
