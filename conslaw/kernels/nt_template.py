@@ -50,7 +50,7 @@ operation (no fast-math), so the two agree to round-off.
 import numpy as np  # noqa: I001 (the binding block below is replaced when generated)
 from numba import njit
 
-from conslaw.kernels.constants import DEPTH_SLOPE_LIMIT
+from conslaw.kernels.constants import DEPTH_SLOPE_LIMIT, THIN_TAIL
 from conslaw.kernels.scratch import local_matrix, local_vector
 
 # --- bindings ---
@@ -309,8 +309,9 @@ def velocity_range(src, i, dt, aux_centre, params, state, coefficients, out):  #
     velocity outside the range of the cells its update reads is an artefact. It appears where the
     staggered average of a draining cell is a small difference of large terms (the tail a sliding
     body leaves behind), whose momentum and depth do not cancel alike: a tail of depth 3e-5 behind
-    a body sliding down an 89-degree chute at 0.4 got u = -1.9 (upslope). In wet cells the range is
-    wider than the scheme's own deviation from the invariant region and the bound does not act."""
+    a body sliding down an 89-degree chute at 0.4 got u = -1.9 (upslope). The clamp is not
+    conservative, so it acts only there: in a new cell shallower than ``THIN_TAIL`` times the
+    deepest of its source cells."""
     c = col(i)
     for v in range(NV):
         state[v] = src[v, c]
@@ -476,9 +477,14 @@ def average_cells(  # type: ignore[no-untyped-def]
         if HAS_CORRECTION:
             _correct_point(state, coefficients, params, dt)
         if DEPTH >= 0 and MOMENTUM >= 0:
-            # The new velocity within the range of the four source cells (velocity_range).
+            # In a thin tail, the new velocity within the range of the four source cells
+            # (velocity_range, THIN_TAIL).
             depth = state[DEPTH]
-            if depth >= DRY_DEPTH and depth > 0.0:
+            deepest = max(
+                max(src[DEPTH, col(first + j - 1)], src[DEPTH, left]),
+                max(src[DEPTH, right], src[DEPTH, col(first + j + 2)]),
+            )
+            if depth >= DRY_DEPTH and depth > 0.0 and depth < THIN_TAIL * deepest:
                 low = min(
                     min(work[slot(VELOCITY_LOW, j)], work[slot(VELOCITY_LOW, j + 1)]),
                     min(work[slot(VELOCITY_LOW, j + 2)], work[slot(VELOCITY_LOW, j + 3)]),

@@ -15,7 +15,7 @@ from numpy.typing import NDArray
 from conslaw.errors import ConfigError, InadmissibleStateError, SchemeBreakdownError
 from conslaw.grid import Grid
 from conslaw.kernels.codegen import nt_kernels
-from conslaw.kernels.constants import DEPTH_SLOPE_LIMIT
+from conslaw.kernels.constants import DEPTH_SLOPE_LIMIT, THIN_TAIL
 from conslaw.model import Model
 from conslaw.reconstruct import Reconstructor
 from conslaw.reconstruct.base import STENCIL_HALF_WIDTH
@@ -388,9 +388,10 @@ class NessyahuTadmor(Scheme):
         return new
 
     def _bound_velocities(self, w: Array, centre: Array, first: int, dt: float, new: Array) -> None:
-        """numpy version of the kernel's ``bound_velocities``: the velocity of every new wet cell
-        stays between the smallest ``u - 2c`` and the largest ``u + 2c`` of the four cells its
-        update reads, widened by ``dt (|s_m| + R) / h``."""
+        """numpy version of the kernel's velocity bound (``velocity_range``): the velocity of every
+        new wet cell in a thin tail (shallower than ``THIN_TAIL`` times the deepest of the four
+        cells its update reads) stays between the smallest ``u - 2c`` and the largest ``u + 2c``
+        of those cells, widened by ``dt (|s_m| + R) / h``."""
         model = self.model
         d, m = model.depth_index, model.momentum_index
         assert d is not None and m is not None
@@ -407,7 +408,8 @@ class NessyahuTadmor(Scheme):
         lo = np.minimum(np.minimum(low[:-3], low[1:-2]), np.minimum(low[2:-1], low[3:]))
         hi = np.maximum(np.maximum(high[:-3], high[1:-2]), np.maximum(high[2:-1], high[3:]))
         h_new = new[d]
-        wet_new = (h_new >= model.dry_depth()) & (h_new > 0.0)
+        deepest = np.maximum(np.maximum(h[:-3], h[1:-2]), np.maximum(h[2:-1], h[3:]))
+        wet_new = (h_new >= model.dry_depth()) & (h_new > 0.0) & (h_new < THIN_TAIL * deepest)
         u_new = np.where(wet_new, new[m] / np.where(wet_new, h_new, 1.0), 0.0)
         new[m] = np.where(
             wet_new & (u_new < lo), lo * h_new, np.where(wet_new & (u_new > hi), hi * h_new, new[m])
