@@ -69,9 +69,12 @@ def _counting(inner: Any, test_name: str) -> Any:
     """``inner`` (one example of a hypothesis test), counting each call per model."""
 
     def run_example(*args: object, **kwargs: object) -> object:
+        result = inner(*args, **kwargs)
+        # Counted once the example has run through: examples rejected by assume() or a filter
+        # raise inside and are not counted.
         for model in _models_of(test_name, kwargs):
             EXAMPLES_PER_MODEL[model] = EXAMPLES_PER_MODEL.get(model, 0) + 1
-        return inner(*args, **kwargs)
+        return result
 
     run_example.counted = True  # type: ignore[attr-defined]
     return run_example
@@ -94,6 +97,7 @@ def pytest_sessionfinish(session: pytest.Session) -> None:
         workeroutput["examples_per_model"] = dict(EXAMPLES_PER_MODEL)
 
 
+@pytest.hookimpl(optionalhook=True)
 def pytest_testnodedown(node: object, error: object) -> None:
     """(xdist controller) add a finished worker's counts."""
     counts = getattr(node, "workeroutput", {}).get("examples_per_model", {})

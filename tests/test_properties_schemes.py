@@ -61,7 +61,8 @@ DOCUMENTED_LIMITS = (
     "margin reached",
     "shorter than 2 cells",
     "left the domain",
-    "the Lagrangian scheme cannot continue",
+    "collapsed (node",
+    "the oscillations grow without bound",
 )
 #: Round-off allowed in a conserved total per time step, relative to the total of |q|: the update
 #: of one cell (eq. 10) is a handful of additions of terms no larger than the cell's neighbours
