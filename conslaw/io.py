@@ -59,6 +59,7 @@ from conslaw.state import node_arrays
 
 if TYPE_CHECKING:
     from conslaw.config import Scene
+    from conslaw.figure_worker import FigureWorker
     from conslaw.simulation import RunResult
 
 Array = NDArray[np.float64]
@@ -69,13 +70,22 @@ SERIES = "solution"
 MARGIN_FIELDS = ("x_rear", "u_rear", "x_front", "u_front")
 
 
+def _file_mode() -> int:
+    """The mode ``open`` gives a new file: ``0o666`` less the process's umask."""
+    umask = os.umask(0)
+    os.umask(umask)
+    return 0o666 & ~umask
+
+
 def atomic_write_bytes(path: Path, data: bytes) -> Path:
-    """Write ``data`` to ``path`` through a temporary file and an atomic rename."""
+    """Write ``data`` to ``path`` through a temporary file and an atomic rename (with the
+    permissions of a file made by ``open``, not the owner-only ones of the temporary file)."""
     path = Path(path)
     handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:
         with os.fdopen(handle, "wb") as stream:
             stream.write(data)
+            os.fchmod(stream.fileno(), _file_mode())
         os.replace(temporary, path)
     except BaseException:
         Path(temporary).unlink(missing_ok=True)
@@ -363,12 +373,16 @@ class RunWriter:
     Pass it as ``on_output`` to :func:`conslaw.simulation.simulate` and call :meth:`finish` at
     the end (figures, removal of series files an earlier run left behind). The folder is made
     with the first output, so a run that fails before writes nothing. See the module docstring
-    for the files of every format.
+    for the files of every format. A ``figure_worker`` (:mod:`conslaw.figure_worker`) draws the
+    figures if one is given.
     """
 
-    def __init__(self, folder: Path, scene: Scene) -> None:
+    def __init__(
+        self, folder: Path, scene: Scene, figure_worker: FigureWorker | None = None
+    ) -> None:
         self.folder = Path(folder)
         self.scene = scene
+        self.figure_worker = figure_worker
         self.formats = scene.output_formats
         self.last_time: float | None = None
         self._files: dict[Path, None] = {}
@@ -448,7 +462,7 @@ class RunWriter:
         with signals_held():
             self.history(result, final=True)
         if self.scene.plot:
-            for path in write_figures(result, self.folder):
+            for path in write_figures(result, self.folder, self.figure_worker):
                 self._wrote(path)
         for entry in self.folder.iterdir():
             if _OWN_FILE.match(entry.name) and entry not in self._files:
@@ -456,9 +470,23 @@ class RunWriter:
         return self.files
 
 
-def write_figures(result: RunResult, folder: Path) -> list[Path]:
+def write_figures(
+    result: RunResult, folder: Path, worker: FigureWorker | None = None
+) -> list[Path]:
     """``profiles.png``; with front tracking ``margins.png``; on a chute ``chute.png``; with at
-    least :data:`conslaw.plotting.XT_MIN_OUTPUTS` output times ``xt.png`` (x–t diagram)."""
+    least :data:`conslaw.plotting.XT_MIN_OUTPUTS` output times ``xt.png`` (x–t diagram).
+
+    Drawn by ``worker`` (:mod:`conslaw.figure_worker`, matplotlib already imported there) if
+    one is given and it succeeds, else in this process."""
+    if worker is not None:
+        written = worker.draw(result, folder)
+        if written is not None:
+            return written
+    return draw_figures(result, folder)
+
+
+def draw_figures(result: RunResult, folder: Path) -> list[Path]:
+    """The figures of :func:`write_figures`, drawn in this process."""
     import matplotlib.pyplot as plt
 
     from conslaw.plotting import figures_for

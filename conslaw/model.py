@@ -125,6 +125,13 @@ class Model(ABC):
         self.params = self.Parameters(**params)
         self._arrays: Any = None
 
+    def __getstate__(self) -> dict[str, Any]:
+        """The model without its compiled array kernels (a cache, rebuilt on first use), so
+        that a model can be pickled, e.g. to draw a run's figures in another process."""
+        state = self.__dict__.copy()
+        state["_arrays"] = None
+        return state
+
     # ------------------------------------------------------------------ parameters, coefficients
     @property
     def n_vars(self) -> int:

@@ -273,3 +273,20 @@ def test_interrupted_message_names_time_step_and_outputs() -> None:
     none = RunInterrupted(0.5, 3, None, signal.SIGINT)
     assert isinstance(none, KeyboardInterrupt) and "no output time was reached" in str(none)
     assert (none.t, none.steps, none.last_output) == (0.5, 3, None)
+
+
+def test_output_files_get_the_permissions_of_open(tmp_path: Path) -> None:
+    """Atomic writes go through a temporary file made owner-only (``mkstemp``); the file left
+    in place has the mode ``open`` would give it (0o666 less the umask)."""
+    import os
+
+    from conslaw.io import atomic_write_bytes
+
+    previous = os.umask(0o022)
+    try:
+        path = atomic_write_bytes(tmp_path / "a.bin", b"x")
+        assert path.stat().st_mode & 0o777 == 0o644
+        os.umask(0o077)
+        assert atomic_write_bytes(tmp_path / "b.bin", b"x").stat().st_mode & 0o777 == 0o600
+    finally:
+        os.umask(previous)

@@ -1,0 +1,158 @@
+"""Figures drawn by a child process started before the solve.
+
+Importing matplotlib takes about as long as loading the compiled kernels (about half a second
+each on the reference machine, see docs/performance.md). ``conslaw run`` therefore forks a child
+at launch that imports matplotlib and warms up its renderer while the parent loads the kernels
+and solves; the parent then hands the finished run to the child, which writes the PNGs (through
+the same atomic writes as everything else) and reports the paths. Where ``fork`` is not the
+platform's way to start processes (macOS, Windows) or the child fails for any reason, the
+figures are drawn in the parent as before: the worker changes when figures are drawn, never
+what is drawn.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import multiprocessing
+import signal
+import sys
+import threading
+from multiprocessing.connection import Connection
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from multiprocessing.process import BaseProcess
+
+    from conslaw.simulation import RunResult
+
+#: Seconds the parent waits for the child to exit once its work is done or refused.
+JOIN_SECONDS = 5.0
+
+
+class _StoppedError(Exception):
+    """SIGTERM in the child: unwinds it, so that an atomic write removes its temporary file."""
+
+
+def _stop(signal_number: int, frame: Any) -> None:
+    raise _StoppedError
+
+
+def _warm_up() -> None:
+    """Import pyplot and draw, to a buffer, a small figure with what the run figures use
+    (shared axes, markers, lines, a fill, a legend, text, a grid, tight layout): the first
+    draw of each loads fonts and sets up caches, which the run's figures then find ready."""
+    import io as _io
+
+    import matplotlib.pyplot as plt
+
+    import conslaw.plotting  # noqa: F401  (the import the parent would otherwise pay)
+
+    figure, axes = plt.subplots(2, 1, figsize=(2, 2), sharex=True, squeeze=False)
+    for axis in axes[:, 0]:
+        axis.plot([0.0, 1.0], [0.0, 1.0], "o", ms=4.5, mfc="none", mew=0.9, label="a")
+        axis.plot([0.0, 1.0], [1.0, 0.0], "k-", lw=0.9, label="b")
+        axis.fill([0.0, 1.0, 1.0], [0.0, 0.0, 1.0], color="tab:orange", alpha=0.8, lw=0)
+        axis.text(0.98, 0.85, "t = 1", transform=axis.transAxes, ha="right", fontsize=9)
+        axis.grid(alpha=0.3)
+        axis.set_ylabel("h")
+    axes[0, 0].legend(fontsize=8, loc="best")
+    axes[0, 0].set_title("warm-up", fontsize=10)
+    axes[-1, 0].set_xlabel("x")
+    figure.tight_layout()
+    figure.savefig(_io.BytesIO(), format="png", dpi=30)
+    plt.close(figure)
+
+
+def _serve(connection: Connection, parent_end: Connection) -> None:
+    """The child: warm up, wait for one run, write its figures, report ``("ok", paths)`` or
+    ``("error", message)``. Ctrl-C is the parent's to report; SIGTERM unwinds quietly."""
+    parent_end.close()
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, _stop)
+    try:
+        _warm_up()
+        job = connection.recv()
+        if job is None:
+            return
+        result, folder = job
+        from conslaw.io import draw_figures
+
+        connection.send(("ok", draw_figures(result, Path(folder))))
+    except (_StoppedError, EOFError, BrokenPipeError):
+        pass  # the parent is gone or stopped us: nothing to report
+    except Exception as error:  # reported to the parent, which draws in-process instead
+        with contextlib.suppress(BrokenPipeError, OSError):
+            connection.send(("error", f"{type(error).__name__}: {error}"))
+    finally:
+        connection.close()
+
+
+def transportable(result: RunResult) -> RunResult:
+    """``result`` without its scheme (compiled kernels, not needed by any figure)."""
+    return dataclasses.replace(result, scheme=None)  # type: ignore[arg-type]
+
+
+class FigureWorker:
+    """A child process that draws one run's figures (see the module docstring).
+
+    Use :meth:`start` (None where it cannot run), then :meth:`draw` once, and :meth:`close` in
+    every case (a ``finally``): it stops a child that was not given a run.
+    """
+
+    def __init__(self, process: BaseProcess, connection: Connection) -> None:
+        self.process = process
+        self.connection = connection
+
+    @classmethod
+    def start(cls) -> FigureWorker | None:
+        """Fork the child now; None on other platforms than Linux, in a process running other
+        threads (a fork copies locks they may hold: pytest-xdist workers, notebooks), and if
+        the fork fails."""
+        if not sys.platform.startswith("linux") or threading.active_count() > 1:
+            return None
+        context = multiprocessing.get_context("fork")
+        parent_end, child_end = context.Pipe()
+        process = context.Process(
+            target=_serve, args=(child_end, parent_end), name="conslaw-figures", daemon=True
+        )
+        try:
+            process.start()
+        except OSError:
+            parent_end.close()
+            child_end.close()
+            return None
+        child_end.close()
+        return cls(process, parent_end)
+
+    def draw(self, result: RunResult, folder: Path) -> list[Path] | None:
+        """Have the child write ``result``'s figures into ``folder``; the paths written, or None
+        if the child could not (the caller then draws them itself)."""
+        try:
+            self.connection.send((transportable(result), str(folder)))
+            status, payload = self.connection.recv()
+        except (EOFError, BrokenPipeError, OSError):
+            status, payload = "error", None
+        except BaseException:  # Ctrl-C while waiting: stop the child at once
+            self.stop()
+            raise
+        self.close()
+        return [Path(p) for p in payload] if status == "ok" else None
+
+    def close(self) -> None:
+        """Tell a waiting child to stop and wait for it (terminate it if it does not exit)."""
+        if not self.connection.closed:
+            with contextlib.suppress(BrokenPipeError, OSError):
+                self.connection.send(None)
+            self.connection.close()
+        self.process.join(JOIN_SECONDS)
+        if self.process.is_alive():
+            self.stop()
+
+    def stop(self) -> None:
+        """Terminate the child (SIGTERM: an atomic write in progress removes its temporary
+        file) and wait for it."""
+        self.connection.close()
+        self.process.terminate()
+        self.process.join(JOIN_SECONDS)
