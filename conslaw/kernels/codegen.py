@@ -31,6 +31,9 @@ if TYPE_CHECKING:
 _TEMPLATE_DIR = Path(__file__).resolve().parent
 _BEGIN = "# --- bindings ---"
 _END = "# --- end bindings ---"
+#: In a template that continues another (``base``), the end of the header that only serves
+#: linting (its imports of the base template's names); the generated module drops it.
+_HEADER_END = "# --- end of continuation header ---"
 _loaded: dict[str, ModuleType] = {}
 
 
@@ -91,6 +94,7 @@ def generate(
     template: str,
     bindings: Mapping[str, Callable[..., Any]],
     constants: Mapping[str, bool | int | float] | None = None,
+    base: str | None = None,
 ) -> ModuleType:
     """Write (once) and import the module of ``template`` with ``bindings`` in place.
 
@@ -102,9 +106,16 @@ def generate(
         Placeholder name -> module-level compiled function.
     constants : mapping, optional
         Module-level constants (compile-time for numba: dead branches are removed).
+    base : str, optional
+        A template that ``template`` continues: the generated module is the base template
+        followed by ``template`` after its continuation header (so the continuation calls the
+        base's functions, compiled with the same bindings and constants, in the same module).
     """
     constants = dict(constants or {})
     text = (_TEMPLATE_DIR / template).read_text()
+    if base is not None:
+        _, continuation = text.split(_HEADER_END, 1)
+        text = (_TEMPLATE_DIR / base).read_text() + continuation
     head, rest = text.split(_BEGIN, 1)
     _, tail = rest.split(_END, 1)
     lines = [_BEGIN]
@@ -196,10 +207,11 @@ def model_array_kernels(model: Model) -> ModuleType:
     return generate("arrays_template.py", bindings, {key: constants[key] for key in keys})
 
 
-def nt_kernels(
+def _scheme_bindings(
     model: Model, slope_point: Callable[..., Any], fill_left: Any, fill_right: Any
-) -> ModuleType:
-    """The fused Nessyahu–Tadmor kernels for one model, reconstructor and boundary pair."""
+) -> dict[str, Callable[..., Any]]:
+    """Bindings of the NT template: the model's point functions, the reconstructor's slope and
+    the boundary conditions."""
     from conslaw.kernels import placeholders
 
     model_class = type(model)
@@ -217,4 +229,20 @@ def nt_kernels(
             or placeholders.coefficients_point,
         }
     )
+    return bindings
+
+
+def nt_kernels(
+    model: Model, slope_point: Callable[..., Any], fill_left: Any, fill_right: Any
+) -> ModuleType:
+    """The fused Nessyahu–Tadmor kernels for one model, reconstructor and boundary pair."""
+    bindings = _scheme_bindings(model, slope_point, fill_left, fill_right)
     return generate("nt_template.py", bindings, _model_constants(model))
+
+
+def ft_kernels(
+    model: Model, slope_point: Callable[..., Any], fill_left: Any, fill_right: Any
+) -> ModuleType:
+    """The compiled front-tracking kernels: the NT kernels continued by ``ft_template.py``."""
+    bindings = _scheme_bindings(model, slope_point, fill_left, fill_right)
+    return generate("ft_template.py", bindings, _model_constants(model), base="nt_template.py")

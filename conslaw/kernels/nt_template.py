@@ -227,25 +227,33 @@ def copy_cells(src, dst, n):  # type: ignore[no-untyped-def]
 @njit(cache=True, error_model="numpy", inline="always")
 def cell_slope(src, v, i, dx, aux_centre):  # type: ignore[no-untyped-def]
     """Slope of variable v in padded cell i, with the depth rules of the compile-time switches."""
+    return stencil_slope(src, src, v, i, dx, aux_centre)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def stencil_slope(data, src, v, i, dx, aux_centre):  # type: ignore[no-untyped-def]
+    """Slope of variable v in padded cell i read from the stencil values ``data``, limited with
+    the depth of the cell in ``src`` (front tracking continues the body across a margin in
+    ``data``; the plain scheme passes ``data = src``)."""
     if SURFACE_BED >= 0 and v == DEPTH:
         # Surface gradient method: reconstruct depth + bed, then remove the bed slope.
         slope = (
             _slope_point(
-                src[v, col(i - 2)] + aux_centre[SURFACE_BED, col(i - 2)],
-                src[v, col(i - 1)] + aux_centre[SURFACE_BED, col(i - 1)],
-                src[v, col(i)] + aux_centre[SURFACE_BED, col(i)],
-                src[v, col(i + 1)] + aux_centre[SURFACE_BED, col(i + 1)],
-                src[v, col(i + 2)] + aux_centre[SURFACE_BED, col(i + 2)],
+                data[v, col(i - 2)] + aux_centre[SURFACE_BED, col(i - 2)],
+                data[v, col(i - 1)] + aux_centre[SURFACE_BED, col(i - 1)],
+                data[v, col(i)] + aux_centre[SURFACE_BED, col(i)],
+                data[v, col(i + 1)] + aux_centre[SURFACE_BED, col(i + 1)],
+                data[v, col(i + 2)] + aux_centre[SURFACE_BED, col(i + 2)],
             )
             - dx * aux_centre[SURFACE_SLOPE, col(i)]
         )
     else:
         slope = _slope_point(
-            src[v, col(i - 2)],
-            src[v, col(i - 1)],
-            src[v, col(i)],
-            src[v, col(i + 1)],
-            src[v, col(i + 2)],
+            data[v, col(i - 2)],
+            data[v, col(i - 1)],
+            data[v, col(i)],
+            data[v, col(i + 1)],
+            data[v, col(i + 2)],
         )
     if DEPTH >= 0:
         depth = src[DEPTH, col(i)]

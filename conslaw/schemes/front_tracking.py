@@ -44,6 +44,7 @@ from numpy.typing import NDArray
 from conslaw.errors import ConfigError, InadmissibleStateError, SchemeBreakdownError
 from conslaw.grid import Grid
 from conslaw.initial import InitialCondition
+from conslaw.kernels.codegen import ft_kernels
 from conslaw.model import Model
 from conslaw.reconstruct import Reconstructor
 from conslaw.schemes.base import AdvanceResult, BoundarySpec, ProgressCallback
@@ -61,6 +62,10 @@ Array = NDArray[np.float64]
 
 #: Halvings of a step pair's dt allowed before the run stops (as in the compiled kernel).
 MAX_RETRIES = 60
+#: Cell updates per call of the compiled front-tracking kernel between progress reports.
+FT_CELL_UPDATES_PER_CALL = 1_000_000
+#: Rows of the margin history the compiled kernel fills before it pauses to hand them over.
+HISTORY_ROWS = 8192
 #: Cells kept between a margin and the domain boundary (the widest slope stencil).
 BOUNDARY_CLEARANCE = GHOSTS
 #: Cells from the margin cell outward whose stencil values are the body's continuation.
@@ -307,8 +312,10 @@ class FrontTrackingNT(NessyahuTadmor):
     Chosen with ``front_tracking = true`` in a scene. Needs a model with a depth and a momentum
     variable (``q = (h, hu)``) and no staggered-cell (well-balanced) bed source; the states carry
     their :class:`~conslaw.state.Margins`. Steps go in pairs with one ``dt``, redone with half the
-    time step if a depth would become negative, as in the compiled kernel; the margin cells are
-    handled in numpy (O(1) work per step), the rest of the update is the numpy NT step.
+    time step if a depth would become negative. :meth:`advance` runs compiled
+    (:mod:`conslaw.kernels.ft_template`, generated with the model's point functions);
+    :meth:`reference_advance` and :meth:`step` are the numpy reference (the NT update with the
+    margin-cell hooks of :class:`MarginCellHooks`), which the compiled path equals to round-off.
     """
 
     needs_single_body = True
@@ -335,6 +342,35 @@ class FrontTrackingNT(NessyahuTadmor):
                 f"front_tracking: not available for '{model.name}' with a bed source "
                 "(well-balanced staggered-cell source); use a flat bed"
             )
+        self._ft_kernels: Any = None
+        n_pad = self.n_staggered + 2 * GHOSTS
+        self._stencil = np.zeros((model.n_vars, n_pad))
+        self._ft_margins = np.full((3, 4), np.nan)
+        self._profiles_buffer = np.zeros((2, 16))
+        self._margin_of = np.zeros(2, dtype=np.int64)
+        self._history = np.zeros((HISTORY_ROWS, 5))
+        self._padded = {offset: self._padded_positions(offset) for offset in (0.0, 0.5)}
+        self._centres = {offset: self.grid.centres(offset, self.periodic) for offset in (0.0, 0.5)}
+
+    @property
+    def ft_kernels(self) -> Any:
+        """The generated compiled front-tracking kernels (built on first use)."""
+        if self._ft_kernels is None:
+            self._ft_kernels = ft_kernels(
+                self.model,
+                self.reconstructor.slope_point,
+                self.left.condition.fill_left,
+                self.right.condition.fill_right,
+            )
+            self._ft_work = np.zeros(
+                (self._ft_kernels.FT_WORK_ROWS, self.n_staggered + 2 * GHOSTS + 8)
+            )
+        return self._ft_kernels
+
+    def _margin_aux(self, position: float) -> Array:
+        """The model's coefficients at one margin position (called back by the kernel)."""
+        values = self.model.aux(np.array([position]), self.grid.dx)
+        return np.ascontiguousarray(values[:, 0], dtype=np.float64)
 
     # ------------------------------------------------------------------ margins
     def initial_state(self, state: State, initial: InitialCondition | None = None) -> State:
@@ -547,8 +583,111 @@ class FrontTrackingNT(NessyahuTadmor):
     def advance(
         self, state: State, t_end: float, progress: ProgressCallback | None = None
     ) -> AdvanceResult:
-        """Advance to exactly ``t_end`` in step pairs; the result holds the margin history
-        (rows ``t, x_rear, u_rear, x_front, u_front`` after every step)."""
+        """Advance to exactly ``t_end`` in step pairs with the compiled kernel; the result holds
+        the margin history (rows ``t, x_rear, u_rear, x_front, u_front`` after every step).
+
+        The same steps, margins and failures as :meth:`reference_advance`, to round-off.
+
+        Raises
+        ------
+        SchemeBreakdownError
+            A margin reached the boundary, the body became shorter than 2 cells, or the time
+            step fell below ``1e-14 dx``; with the time and step.
+        InadmissibleStateError
+            A state outside the model's admissible set, or a margin that is not finite.
+        """
+        _, staggered = self._family(state)
+        if staggered:
+            raise ValueError("advance() starts from the primary grid (offset 0)")
+        if not t_end >= state.t:
+            raise ConfigError(f"t_end={t_end} is before the state's time {state.t}")
+        if state.margins is None:
+            state = self.initial_margins(state)
+        assert state.margins is not None
+        kernels = self.ft_kernels
+        kernels.margin_aux_source = self._margin_aux
+        n = self.n_primary
+        self._w0[:, GHOSTS : GHOSTS + n] = state.q
+        margins = self._ft_margins
+        margins[:] = np.nan
+        margins[0] = state.margins.row(state.t)[1:]
+        history = [np.array([state.margins.row(state.t)])]
+        a0, a0l, a0r = self._aux[0.0]
+        a1, a1l, a1r = self._aux[0.5]
+        dx = self.grid.dx
+        x_low = self.grid.x_min + BOUNDARY_CLEARANCE * dx
+        x_high = self.grid.x_max - BOUNDARY_CLEARANCE * dx
+        pairs_per_call = max(1, FT_CELL_UPDATES_PER_CALL // (2 * n))
+        t, steps = state.t, 0
+        while True:
+            t, pairs, rows, status, where, step, dt = kernels.ft_advance(
+                self._w0, self._w1, self._w2, self._stencil, n, self.n_staggered, t,
+                float(t_end), self.cfl, dx, DT_FLOOR_RELATIVE * dx, pairs_per_call,
+                self._centres[0.0], self._padded[0.0], self._centres[0.5], self._padded[0.5],
+                a0, a0l, a0r, a1, a1l, a1r, self.params, self.bc_left, self.bc_right,
+                self._ft_work, margins, self._profiles_buffer, self._margin_of, x_low, x_high,
+                self._history,
+            )  # fmt: skip
+            history.append(self._history[:rows].copy())
+            if status not in (kernels.FT_DONE, kernels.FT_PAUSED):
+                self._raise_compiled_failure(status, where, t, steps + step, dt)
+            steps += 2 * pairs
+            if progress is not None:
+                progress(t, steps)
+            if status == kernels.FT_DONE:
+                break
+        final = State(
+            t,
+            self._centres[0.0].copy(),
+            self._w0[:, GHOSTS : GHOSTS + n].copy(),
+            0.0,
+            _margins_of_row(margins[0]),
+        )
+        return AdvanceResult(final, steps, np.concatenate(history))
+
+    def _raise_compiled_failure(
+        self, status: int, where: int, t: float, step: int, dt: float
+    ) -> None:
+        """Raise the error of the reference path for a failure of the compiled kernel."""
+        kernels = self.ft_kernels
+        if status == kernels.FT_DT_FLOOR:
+            raise SchemeBreakdownError(
+                f"time step {dt:.3g} fell below the floor {DT_FLOOR_RELATIVE:g}*dx at "
+                f"t={t:.6g}, step {step}"
+            )
+        if status == kernels.FT_MARGIN_OUTSIDE:
+            self._check_margins(_margins_of_row(self._ft_margins[where]), t, step)
+        if status == kernels.FT_MARGIN_NOT_FINITE:
+            for side in (0, 1):
+                position, velocity = self._ft_margins[where, 2 * side : 2 * side + 2]
+                if np.isnan(self._ft_margins[where - 1, 2 * side]):
+                    continue
+                try:
+                    Margin(float(position), float(velocity))
+                except ValueError as error:
+                    raise InadmissibleStateError(
+                        f"a margin is not finite (overflow) at t={t:.6g}, step {step}: "
+                        f"{error}; check the magnitudes of the parameters"
+                    ) from None
+        if status in (kernels.FT_INADMISSIBLE, kernels.FT_SPEED_NOT_FINITE):
+            offset = 0.5 if where == 1 else 0.0
+            n = self.n_staggered if where == 1 else self.n_primary
+            buffer = (self._w0, self._w1, self._w2)[where]
+            failed = State(t, self._centres[offset], buffer[:, GHOSTS : GHOSTS + n].copy(), offset)
+            self.check_admissible(failed, step)
+            raise InadmissibleStateError(
+                f"the wave speed is not finite (overflow) at t={t:.6g}, step {step}; check the "
+                "magnitudes of the parameters"
+            )
+        raise SchemeBreakdownError(
+            f"front tracking failed (status {status}) at t={t:.6g}, step {step}"
+        )
+
+    def reference_advance(
+        self, state: State, t_end: float, progress: ProgressCallback | None = None
+    ) -> AdvanceResult:
+        """:meth:`advance` in numpy (the NT update with :class:`MarginCellHooks`, a Python loop
+        over the steps): the reference the compiled path is tested against."""
         _, staggered = self._family(state)
         if staggered:
             raise ValueError("advance() starts from the primary grid (offset 0)")
@@ -598,3 +737,10 @@ class FrontTrackingNT(NessyahuTadmor):
             if progress is not None:
                 progress(state.t, steps)
         return AdvanceResult(state, steps, np.array(history, dtype=np.float64))
+
+
+def _margins_of_row(row: Array) -> Margins:
+    """Margins from ``(x_rear, u_rear, x_front, u_front)``, NaN for a missing margin."""
+    rear = None if np.isnan(row[0]) else Margin(float(row[0]), float(row[1]))
+    front = None if np.isnan(row[2]) else Margin(float(row[2]), float(row[3]))
+    return Margins(rear, front)
