@@ -209,7 +209,9 @@ def test_front_tracking_reports_a_nan_with_time_step_and_cell(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     """A NaN injected into the 5th step of a front-tracking run (a staggered state) stops it
-    with InadmissibleStateError naming step 5, the cell and the values."""
+    with InadmissibleStateError naming step 5, the cell and the values (the numpy reference,
+    where a step can be patched; the compiled path reports the same failures with the same text,
+    tests/test_front_tracking_compiled.py)."""
     ft, state = front_tracking_body()
     original = FrontTrackingNT._confine
     calls = {"n": 0}
@@ -223,20 +225,32 @@ def test_front_tracking_reports_a_nan_with_time_step_and_cell(
 
     monkeypatch.setattr(FrontTrackingNT, "_confine", confine)
     with pytest.raises(InadmissibleStateError) as error:
-        ft.advance(state, 1.0)
+        ft.reference_advance(state, 1.0)
     message = str(error.value)
     assert "step 5," in message and "cell 20 " in message and "hu=nan" in message, message
 
 
 def test_front_tracking_reports_a_margin_that_overflows(monkeypatch: pytest.MonkeyPatch) -> None:
-    """A margin whose acceleration overflows stops the run with InadmissibleStateError (not a
-    ValueError from deep inside)."""
+    """A margin whose acceleration overflows (the chute's sin zeta at the margin made infinite)
+    stops the run with InadmissibleStateError (not a ValueError from deep inside), in the
+    compiled path and the numpy reference alike."""
     ft, state = front_tracking_body()
-    monkeypatch.setattr(
-        FrontTrackingNT, "_margin_acceleration", lambda self, p: (float("inf"), 0.0)
-    )
-    with pytest.raises(InadmissibleStateError, match=r"margin is not finite .* step 1"):
-        ft.advance(state, 1.0)
+    aux = FrontTrackingNT._margin_aux
+
+    def overflowing(self: FrontTrackingNT, position: float) -> Any:
+        values = aux(self, position).copy()
+        values[0] = np.inf
+        return values
+
+    monkeypatch.setattr(FrontTrackingNT, "_margin_aux", overflowing)
+    messages = []
+    for advance in (ft.advance, ft.reference_advance):
+        with pytest.raises(
+            InadmissibleStateError, match=r"margin is not finite .* step 1"
+        ) as error:
+            advance(state, 1.0)
+        messages.append(str(error.value))
+    assert messages[0] == messages[1]
 
 
 def test_mass_drift_is_reported_at_the_end_of_a_run(tmp_path: Path) -> None:

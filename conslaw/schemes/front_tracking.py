@@ -368,7 +368,8 @@ class FrontTrackingNT(NessyahuTadmor):
         return self._ft_kernels
 
     def _margin_aux(self, position: float) -> Array:
-        """The model's coefficients at one margin position (called back by the kernel)."""
+        """The model's coefficients at one margin position, ``Model.aux`` with the cell width
+        (both paths ask here; the compiled kernel calls back once per margin and step)."""
         values = self.model.aux(np.array([position]), self.grid.dx)
         return np.ascontiguousarray(values[:, 0], dtype=np.float64)
 
@@ -473,6 +474,7 @@ class FrontTrackingNT(NessyahuTadmor):
             np.array([p.margin.velocity]),
             np.array([spread]),
             self.grid.dx,
+            aux=self._margin_aux(p.margin.position)[:, None],
         )
         depth_gradient = -p.sign * p.slope
         return float(forces.drive[0] - forces.beta[0] * depth_gradient), float(forces.friction[0])
