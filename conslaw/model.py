@@ -156,6 +156,12 @@ class Model(ABC):
         """
         return np.zeros((self.n_aux, np.asarray(x).shape[0]), dtype=np.float64)
 
+    def uniform_aux(self) -> bool:
+        """Whether :meth:`aux` gives the same coefficients at every position and width, so that
+        a scheme may ask once (front tracking at its moving margins). Default: only a model
+        without coefficients; a model whose coefficients are uniform says so."""
+        return self.n_aux == 0
+
     def initial_cell_averages(self, kind: str, options: Mapping[str, Any], grid: Grid) -> Array:
         """Exact cell averages of one of this model's :attr:`initial_kinds`."""
         raise NotImplementedError(f"model '{self.name}' has no initial condition '{kind}'")

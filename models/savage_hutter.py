@@ -225,6 +225,10 @@ class SavageHutter(DepthAveragedModel):
             "dynamic_coefficients": self.k_active != self.k_passive,
         }
 
+    def uniform_aux(self) -> bool:
+        """On a plane chute the coefficients are the same everywhere."""
+        return isinstance(self.chute, PlaneChute)
+
     def aux(self, x: Array, dx: float) -> Array:
         """``sin zeta``, ``cos zeta``, ``lambda kappa`` at x, and ``K = K_act``."""
         x = np.asarray(x, dtype=np.float64)

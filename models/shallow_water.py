@@ -140,6 +140,10 @@ class ShallowWater(DepthAveragedModel):
         """Whether the bed is not flat."""
         return self.params.bump_height != 0.0
 
+    def uniform_aux(self) -> bool:
+        """A flat bed has the same (zero) coefficients everywhere."""
+        return not self.has_bed
+
     def capabilities(self) -> dict[str, bool]:
         """Without a bed, no source, no surface reconstruction (nothing compiled for them)."""
         return {

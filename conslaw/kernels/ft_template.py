@@ -10,8 +10,9 @@ agree to round-off; the docstrings there give the equations and their sources (T
 & Hutter 2001, Fig. 2 and eq. 19).
 
 The only call back to Python is the model's coefficients at a margin's position
-(``Model.aux``, e.g. the chute's inclination), once per margin and step, through
-:data:`margin_aux_source` (set by the scheme before every call). Everything else (the step-pair
+(``Model.aux``, e.g. the chute's inclination on a curved chute), once per margin and step,
+through :data:`margin_aux_source` (set by the scheme), and only if they vary with the position
+(``Model.uniform_aux`` false; a plane chute needs none). Everything else (the step-pair
 loop with its halving rule, the margin motion, the margin-cell reconstruction, the point values,
 the source-depth scaling, the confinement, the correction and the admissibility checks) runs
 compiled, with no allocation per step: the margin history goes into a preallocated table and the
@@ -133,8 +134,13 @@ def margin_cell(x, n, dx, position, sign):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def margin_aux(position, coefficients):  # type: ignore[no-untyped-def]
-    """The model's coefficients at a margin (a call back to ``Model.aux``)."""
+def margin_aux(position, coefficients, uniform, uniform_values):  # type: ignore[no-untyped-def]
+    """The model's coefficients at a margin: ``uniform_values`` if the model's coefficients are
+    the same everywhere (``Model.uniform_aux``), else a call back to ``Model.aux``."""
+    if uniform:
+        for k in range(NAUX):
+            coefficients[k] = uniform_values[k]
+        return
     with objmode(values="float64[:]"):
         values = margin_aux_source(position)
     for k in range(NAUX):
@@ -191,7 +197,7 @@ def fit_margin(w, n, x, dx, position, velocity, sign, profile):  # type: ignore[
 
 
 @njit(cache=True, error_model="numpy")
-def move_margin(profile, dt, parameters):  # type: ignore[no-untyped-def]
+def move_margin(profile, dt, parameters, uniform, uniform_values):  # type: ignore[no-untyped-def]
     """Eq. (19) over one step (``_move_margins``): ``(position, velocity)`` at its end."""
     params = local_vector(NPARAMS)
     load_params(parameters, params)
@@ -201,7 +207,7 @@ def move_margin(profile, dt, parameters):  # type: ignore[no-untyped-def]
     out = local_vector(NV)
     matrix = local_matrix(NV)
     sign, u = profile[P_SIGN], profile[P_VELOCITY]
-    margin_aux(profile[P_POSITION], coefficients)
+    margin_aux(profile[P_POSITION], coefficients, uniform, uniform_values)
     state[DEPTH], state[MOMENTUM] = 1.0, u
     slope[DEPTH], slope[MOMENTUM] = 0.0, sign * (u - profile[P_INNER_VELOCITY])
     if HAS_DYNAMIC_COEFFICIENTS:
@@ -518,7 +524,7 @@ def margins_inside(margins, x_low, x_high, dx):  # type: ignore[no-untyped-def]
 def ft_step(  # type: ignore[no-untyped-def]
     src, dst, data, n_src, n_dst, shift, src_staggered, dt, dx, x_src, x_padded, x_dst,
     aux_centre, aux_left_quarter, aux_right_quarter, aux_dst, params, bc_left, bc_right, work,
-    margins, new_margins, profiles, margin_of, x_low, x_high,
+    margins, new_margins, profiles, margin_of, x_low, x_high, uniform, uniform_values,
 ):  # fmt: skip
     """One front-tracking step from ``src`` (margins ``margins``) into ``dst`` (margins
     ``new_margins``), as ``FrontTrackingNT._raw_step``. Returns FT_OK, FT_RETRY (a negative
@@ -536,7 +542,7 @@ def ft_step(  # type: ignore[no-untyped-def]
     for side in (0, 1):
         if np.isnan(margins[2 * side]):
             continue
-        position, velocity = move_margin(profiles[side], dt, params)
+        position, velocity = move_margin(profiles[side], dt, params, uniform, uniform_values)
         new_margins[2 * side] = position
         new_margins[2 * side + 1] = velocity
         if not (np.isfinite(position) and np.isfinite(velocity)):
@@ -647,7 +653,7 @@ def record(history, row, t, margins):  # type: ignore[no-untyped-def]
 def ft_advance(  # type: ignore[no-untyped-def]
     w0, w1, w2, data, n0, n1, t, t_end, cfl, dx, dt_floor, max_pairs, x0, x0_padded, x1,
     x1_padded, aux0, aux0_left, aux0_right, aux1, aux1_left, aux1_right, params, bc_left,
-    bc_right, work, margins, profiles, margin_of, x_low, x_high, history,
+    bc_right, work, margins, profiles, margin_of, x_low, x_high, history, uniform, uniform_values,
 ):  # fmt: skip
     """Advance ``w0`` (primary family, margins ``margins[0]``) by step pairs towards ``t_end``,
     as ``FrontTrackingNT.reference_advance``: one ``dt`` per pair (``stable_dt``, the last pair
@@ -689,7 +695,8 @@ def ft_advance(  # type: ignore[no-untyped-def]
             status = ft_step(
                 buffers[now], w1, data, n0, n1, shift_up, from_primary, dt, dx, x0, x0_padded,
                 x1, aux0, aux0_left, aux0_right, aux1, params, bc_left, bc_right, work,
-                margins[0], margins[1], profiles, margin_of, x_low, x_high,
+                margins[0], margins[1], profiles, margin_of, x_low, x_high, uniform,
+                uniform_values,
             )  # fmt: skip
             if status == FT_RETRY:
                 dt *= 0.5
@@ -709,7 +716,8 @@ def ft_advance(  # type: ignore[no-untyped-def]
             status = ft_step(
                 w1, buffers[full], data, n1, n0, shift_down, from_staggered, dt, dx, x1,
                 x1_padded, x0, aux1, aux1_left, aux1_right, aux0, params, bc_left, bc_right,
-                work, margins[1], margins[2], profiles, margin_of, x_low, x_high,
+                work, margins[1], margins[2], profiles, margin_of, x_low, x_high, uniform,
+                uniform_values,
             )  # fmt: skip
             if status == FT_RETRY:
                 dt *= 0.5

@@ -365,6 +365,12 @@ class FrontTrackingNT(NessyahuTadmor):
             self._ft_work = np.zeros(
                 (self._ft_kernels.FT_WORK_ROWS, self.n_staggered + 2 * GHOSTS + 8)
             )
+            # The call back to Python is compiled (object mode, about 50 ms) at its first call,
+            # not loaded from the cache: done here, with the kernels, not inside a timed solve.
+            self._ft_kernels.margin_aux_source = self._margin_aux
+            self._ft_kernels.margin_aux(
+                self.grid.x_min, np.zeros(max(self.model.n_aux, 1)), False, np.zeros(1)
+            )
         return self._ft_kernels
 
     def _margin_aux(self, position: float) -> Array:
@@ -620,6 +626,9 @@ class FrontTrackingNT(NessyahuTadmor):
         x_low = self.grid.x_min + BOUNDARY_CLEARANCE * dx
         x_high = self.grid.x_max - BOUNDARY_CLEARANCE * dx
         pairs_per_call = max(1, FT_CELL_UPDATES_PER_CALL // (2 * n))
+        # Coefficients the same everywhere (a plane chute): asked once, not at every margin.
+        uniform = self.model.uniform_aux()
+        uniform_values = self._margin_aux(self.grid.x_min) if uniform else np.zeros(1)
         t, steps = state.t, 0
         while True:
             t, pairs, rows, status, where, step, dt = kernels.ft_advance(
@@ -628,7 +637,7 @@ class FrontTrackingNT(NessyahuTadmor):
                 self._centres[0.0], self._padded[0.0], self._centres[0.5], self._padded[0.5],
                 a0, a0l, a0r, a1, a1l, a1r, self.params, self.bc_left, self.bc_right,
                 self._ft_work, margins, self._profiles_buffer, self._margin_of, x_low, x_high,
-                self._history,
+                self._history, uniform, uniform_values,
             )  # fmt: skip
             history.append(self._history[:rows].copy())
             if status not in (kernels.FT_DONE, kernels.FT_PAUSED):
