@@ -117,7 +117,7 @@ def paper_table(report: dict[str, Any]) -> list[str]:
         f"| sh-similarity solve ({p['n_cells']} cells, {p['steps']} steps, compiled NT) | "
         f"{p['solve_median'] * 1e3:.2f} ms | {p['solve_min'] * 1e3:.2f}-"
         f"{p['solve_max'] * 1e3:.2f} ms |",
-        f"| sh-similarity-ft solve (front tracking, numpy path) | "
+        f"| sh-similarity-ft solve (front tracking, compiled) | "
         f"{p['front_tracking_solve_median'] * 1e3:.1f} ms | "
         f"{p['front_tracking_solve_min'] * 1e3:.1f}-{p['front_tracking_solve_max'] * 1e3:.1f} ms |",
         f"| `conslaw run sh-similarity` whole process (default: npz + 2 PNG figures) | "

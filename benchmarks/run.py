@@ -212,7 +212,7 @@ def paper_scene() -> dict[str, Any]:
     )
     print(
         f"  sh-similarity: {warm.steps} steps, solve {result['solve_median'] * 1e3:.2f} ms; "
-        f"front tracking (numpy) {result['front_tracking_solve_median'] * 1e3:.1f} ms; whole "
+        f"front tracking (compiled) {result['front_tracking_solve_median'] * 1e3:.1f} ms; whole "
         f"process {result['process_median']:.2f} s ({result['process_min']:.2f}-"
         f"{result['process_max']:.2f}; CPU {result['process_cpu_median']:.2f} s), with "
         f"--no-plot {result['process_no_plot_median']:.2f} s ({result['process_no_plot_min']:.2f}"
