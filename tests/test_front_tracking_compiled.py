@@ -113,6 +113,11 @@ def test_compiled_pauses_and_resumes(monkeypatch: pytest.MonkeyPatch) -> None:
     assert reports[-1] == (t_end, whole.steps)
     np.testing.assert_array_equal(pieces.state.q, whole.state.q)
     np.testing.assert_array_equal(pieces.margins, whole.margins)
+    monkeypatch.undo()
+    scheme._history = np.zeros((5, 5))  # room for two pairs per call
+    table_full = scheme.advance(state, t_end)
+    np.testing.assert_array_equal(table_full.state.q, whole.state.q)
+    np.testing.assert_array_equal(table_full.margins, whole.margins)
 
 
 def failure_text(call: Any) -> tuple[type[Exception], str]:
