@@ -13,6 +13,7 @@ what is drawn.
 from __future__ import annotations
 
 import contextlib
+import ctypes
 import dataclasses
 import multiprocessing
 import signal
@@ -27,12 +28,15 @@ if TYPE_CHECKING:
 
     from conslaw.simulation import RunResult
 
-#: Seconds the parent waits for the child to exit once its work is done or refused.
+#: Seconds the parent waits for the child to exit once its work is done.
 JOIN_SECONDS = 5.0
+#: ``prctl`` option: the signal a process gets when its parent dies (linux/prctl.h).
+_PR_SET_PDEATHSIG = 1
 
 
-class _StoppedError(Exception):
-    """SIGTERM in the child: unwinds it, so that an atomic write removes its temporary file."""
+class _StoppedError(BaseException):
+    """SIGTERM or SIGHUP in the child: unwinds it (a BaseException, so that no library's
+    ``except Exception`` swallows it); see :func:`_remove_temporary_files`."""
 
 
 def _stop(signal_number: int, frame: Any) -> None:
@@ -65,27 +69,56 @@ def _warm_up() -> None:
     plt.close(figure)
 
 
+def _die_with_the_parent() -> None:
+    """Ask Linux to send SIGTERM to this child when the parent dies (``prctl``
+    ``PR_SET_PDEATHSIG``): a parent killed outright leaves no orphan drawing on."""
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(_PR_SET_PDEATHSIG, signal.SIGTERM, 0, 0, 0)
+    except (OSError, AttributeError):
+        pass  # not essential: the child also stops when its pipe closes
+
+
+def _remove_temporary_files(folder: Path | None) -> None:
+    """Remove the temporary files of figure writes a stop interrupted. A signal between
+    ``mkstemp`` and the ``try`` of :func:`conslaw.io.atomic_write_bytes` leaves one behind; its
+    name is ``.<figure>.png.<random>.tmp``, and only this child writes PNGs into the folder."""
+    if folder is None:
+        return
+    for leftover in folder.glob(".*.png.*.tmp"):
+        leftover.unlink(missing_ok=True)
+
+
 def _serve(connection: Connection, parent_end: Connection) -> None:
     """The child: warm up, wait for one run, write its figures, report ``("ok", paths)`` or
-    ``("error", message)``. Ctrl-C is the parent's to report; SIGTERM unwinds quietly."""
+    ``("error", message)``. Ctrl-C is the parent's to report; SIGTERM and SIGHUP unwind quietly
+    and remove an interrupted write's temporary file."""
     parent_end.close()
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, _stop)
+    for name in ("SIGTERM", "SIGHUP"):
+        signal.signal(getattr(signal, name), _stop)
+    _die_with_the_parent()
+    folder: Path | None = None
     try:
         _warm_up()
         job = connection.recv()
         if job is None:
             return
-        result, folder = job
+        result, folder_name = job
+        folder = Path(folder_name)
         from conslaw.io import draw_figures
 
-        connection.send(("ok", draw_figures(result, Path(folder))))
-    except (_StoppedError, EOFError, BrokenPipeError):
-        pass  # the parent is gone or stopped us: nothing to report
+        connection.send(("ok", draw_figures(result, folder)))
+    except _StoppedError:
+        _remove_temporary_files(folder)
+    except (EOFError, BrokenPipeError):
+        pass  # the parent is gone: nothing to report
     except Exception as error:  # reported to the parent, which draws in-process instead
         with contextlib.suppress(BrokenPipeError, OSError):
             connection.send(("error", f"{type(error).__name__}: {error}"))
     finally:
+        # From here a late signal ends the child without a traceback.
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
         connection.close()
 
 
@@ -104,12 +137,12 @@ class FigureWorker:
     def __init__(self, process: BaseProcess, connection: Connection) -> None:
         self.process = process
         self.connection = connection
+        self.sent = False  # whether the child was given a run
 
     @classmethod
     def start(cls) -> FigureWorker | None:
         """Fork the child now; None on other platforms than Linux, in a process running other
-        threads (a fork copies locks they may hold: pytest-xdist workers, notebooks), and if
-        the fork fails."""
+        threads (a fork copies locks they may hold), and if the fork fails."""
         if not sys.platform.startswith("linux") or threading.active_count() > 1:
             return None
         context = multiprocessing.get_context("fork")
@@ -132,20 +165,23 @@ class FigureWorker:
         try:
             self.connection.send((transportable(result), str(folder)))
             status, payload = self.connection.recv()
-        except (EOFError, BrokenPipeError, OSError):
-            status, payload = "error", None
+        except Exception:  # a result that does not pickle, a child that died: draw here
+            self.stop()
+            return None
         except BaseException:  # Ctrl-C while waiting: stop the child at once
             self.stop()
             raise
+        self.sent = True
         self.close()
         return [Path(p) for p in payload] if status == "ok" else None
 
     def close(self) -> None:
-        """Tell a waiting child to stop and wait for it (terminate it if it does not exit)."""
-        if not self.connection.closed:
-            with contextlib.suppress(BrokenPipeError, OSError):
-                self.connection.send(None)
-            self.connection.close()
+        """End the child: wait for one that finished its run, terminate one that got none
+        (a run that failed or was stopped should not wait for matplotlib's import)."""
+        if not self.sent:
+            self.stop()
+            return
+        self.connection.close()
         self.process.join(JOIN_SECONDS)
         if self.process.is_alive():
             self.stop()

@@ -71,10 +71,17 @@ MARGIN_FIELDS = ("x_rear", "u_rear", "x_front", "u_front")
 
 
 def _file_mode() -> int:
-    """The mode ``open`` gives a new file: ``0o666`` less the process's umask."""
-    umask = os.umask(0)
-    os.umask(umask)
-    return 0o666 & ~umask
+    """The mode ``open`` gives a new file: ``0o666`` less the process's umask (read once: a
+    umask of 0 for a moment on every write would reach files other threads create then)."""
+    global _FILE_MODE
+    if _FILE_MODE is None:
+        umask = os.umask(0)
+        os.umask(umask)
+        _FILE_MODE = 0o666 & ~umask
+    return _FILE_MODE
+
+
+_FILE_MODE: int | None = None
 
 
 def atomic_write_bytes(path: Path, data: bytes) -> Path:
@@ -85,7 +92,7 @@ def atomic_write_bytes(path: Path, data: bytes) -> Path:
     try:
         with os.fdopen(handle, "wb") as stream:
             stream.write(data)
-            os.fchmod(stream.fileno(), _file_mode())
+        os.chmod(temporary, _file_mode())
         os.replace(temporary, path)
     except BaseException:
         Path(temporary).unlink(missing_ok=True)

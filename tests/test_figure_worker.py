@@ -7,6 +7,8 @@ from __future__ import annotations
 import os
 import pickle
 import sys
+import tempfile
+import time
 from pathlib import Path
 
 import numpy as np
@@ -69,23 +71,66 @@ def test_a_failing_child_leaves_the_figures_to_the_parent(
     assert all(p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" for p in written)
 
 
-def test_a_stopped_child_leaves_no_partial_or_temporary_file(run, tmp_path: Path) -> None:
-    """``stop`` while the child draws (as on Ctrl-C): every PNG in the folder is complete, and
-    no temporary file of an atomic write is left behind."""
+@pytest.mark.parametrize("where", ["after mkstemp", "before the rename"])
+def test_a_child_stopped_in_a_write_leaves_no_file(
+    run, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, where: str
+) -> None:
+    """``stop`` (as on Ctrl-C, or the parent's death) while the child writes a PNG: the child
+    hangs in the write (patched in the child only) until the temporary file exists, then is
+    stopped; nothing is left in the folder, neither a PNG nor the temporary file. "after
+    mkstemp" is the window before the ``try`` of ``atomic_write_bytes`` (cleaned by the child's
+    stop handler), "before the rename" the window inside it."""
+    parent = os.getpid()
+    if where == "after mkstemp":
+        original = tempfile.mkstemp
+
+        def hangs(*args, **kwargs):  # type: ignore[no-untyped-def]
+            made = original(*args, **kwargs)
+            if os.getpid() != parent:
+                time.sleep(60)
+            return made
+
+        monkeypatch.setattr(tempfile, "mkstemp", hangs)
+    else:
+        rename = os.replace
+
+        def hangs(source, target):  # type: ignore[no-untyped-def]
+            if os.getpid() != parent:
+                time.sleep(60)
+            return rename(source, target)
+
+        monkeypatch.setattr(os, "replace", hangs)
     worker = started()
     worker.connection.send((figure_worker.transportable(run), str(tmp_path)))
+    deadline = time.monotonic() + 60
+    while not list(tmp_path.glob(".*.tmp")):
+        assert time.monotonic() < deadline, "the child never started its write"
+        time.sleep(0.01)
     worker.stop()
     assert not worker.process.is_alive()
-    for path in tmp_path.iterdir():
-        assert path.suffix == ".png", f"left behind: {path.name}"
-        assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_result_that_does_not_pickle_is_drawn_in_the_parent(run, tmp_path: Path) -> None:
+    """A plugin model with an attribute pickle refuses (a lambda): the figures are drawn in
+    the parent, not lost."""
+    import dataclasses
+
+    model = pickle.loads(pickle.dumps(run.model))
+    model.unpicklable = lambda: None  # type: ignore[attr-defined]
+    result = dataclasses.replace(run, model=model)
+    written = io.write_figures(result, tmp_path, started())
+    assert [p.name for p in written] == ["profiles.png", "chute.png"]
 
 
 def test_close_stops_a_child_that_got_no_run() -> None:
-    """A run that fails before its figures: ``close`` ends the waiting child at once."""
+    """A run that fails before its figures: ``close`` ends the child at once, without waiting
+    for its warm-up."""
     worker = started()
+    began = time.monotonic()
     worker.close()
-    assert not worker.process.is_alive() and worker.process.exitcode == 0
+    assert time.monotonic() - began < 1.0  # not the warm-up's import of matplotlib
+    assert not worker.process.is_alive()
 
 
 def test_no_child_where_a_fork_is_unsafe(monkeypatch: pytest.MonkeyPatch) -> None:

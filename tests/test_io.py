@@ -280,13 +280,16 @@ def test_output_files_get_the_permissions_of_open(tmp_path: Path) -> None:
     in place has the mode ``open`` would give it (0o666 less the umask)."""
     import os
 
-    from conslaw.io import atomic_write_bytes
+    from conslaw import io
 
     previous = os.umask(0o022)
     try:
-        path = atomic_write_bytes(tmp_path / "a.bin", b"x")
+        io._FILE_MODE = None  # the umask is read once per process
+        path = io.atomic_write_bytes(tmp_path / "a.bin", b"x")
         assert path.stat().st_mode & 0o777 == 0o644
         os.umask(0o077)
-        assert atomic_write_bytes(tmp_path / "b.bin", b"x").stat().st_mode & 0o777 == 0o600
+        io._FILE_MODE = None
+        assert io.atomic_write_bytes(tmp_path / "b.bin", b"x").stat().st_mode & 0o777 == 0o600
     finally:
         os.umask(previous)
+        io._FILE_MODE = None

@@ -35,6 +35,7 @@ the boundary stops the run with a clear message.
 
 from __future__ import annotations
 
+import threading
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -62,6 +63,8 @@ Array = NDArray[np.float64]
 
 #: Halvings of a step pair's dt allowed before the run stops (as in the compiled kernel).
 MAX_RETRIES = 60
+#: Held while a compiled front-tracking kernel runs with a scheme's call back set (see advance).
+_CALLBACK_LOCK = threading.Lock()
 #: Cell updates per call of the compiled front-tracking kernel between progress reports.
 FT_CELL_UPDATES_PER_CALL = 1_000_000
 #: Rows of the margin history the compiled kernel fills before it pauses to hand them over.
@@ -613,7 +616,6 @@ class FrontTrackingNT(NessyahuTadmor):
             state = self.initial_margins(state)
         assert state.margins is not None
         kernels = self.ft_kernels
-        kernels.margin_aux_source = self._margin_aux
         n = self.n_primary
         self._w0[:, GHOSTS : GHOSTS + n] = state.q
         margins = self._ft_margins
@@ -631,14 +633,20 @@ class FrontTrackingNT(NessyahuTadmor):
         uniform_values = self._margin_aux(self.grid.x_min) if uniform else np.zeros(1)
         t, steps = state.t, 0
         while True:
-            t, pairs, rows, status, where, step, dt = kernels.ft_advance(
-                self._w0, self._w1, self._w2, self._stencil, n, self.n_staggered, t,
-                float(t_end), self.cfl, dx, DT_FLOOR_RELATIVE * dx, pairs_per_call,
-                self._centres[0.0], self._padded[0.0], self._centres[0.5], self._padded[0.5],
-                a0, a0l, a0r, a1, a1l, a1r, self.params, self.bc_left, self.bc_right,
-                self._ft_work, margins, self._profiles_buffer, self._margin_of, x_low, x_high,
-                self._history, uniform, uniform_values,
-            )  # fmt: skip
+            # The kernel module is shared by every scheme with the same model class,
+            # reconstructor and boundaries, and its call back (the coefficients at a margin on
+            # a curved chute) is a module attribute: set for this scheme before every call (a
+            # progress callback may have run another scheme's advance), under a lock (threads).
+            with _CALLBACK_LOCK:
+                kernels.margin_aux_source = self._margin_aux
+                t, pairs, rows, status, where, step, dt = kernels.ft_advance(
+                    self._w0, self._w1, self._w2, self._stencil, n, self.n_staggered, t,
+                    float(t_end), self.cfl, dx, DT_FLOOR_RELATIVE * dx, pairs_per_call,
+                    self._centres[0.0], self._padded[0.0], self._centres[0.5], self._padded[0.5],
+                    a0, a0l, a0r, a1, a1l, a1r, self.params, self.bc_left, self.bc_right,
+                    self._ft_work, margins, self._profiles_buffer, self._margin_of, x_low, x_high,
+                    self._history, uniform, uniform_values,
+                )  # fmt: skip
             history.append(self._history[:rows].copy())
             if status not in (kernels.FT_DONE, kernels.FT_PAUSED):
                 self._raise_compiled_failure(status, where, t, steps + step, dt)
