@@ -343,7 +343,7 @@ def console_main() -> int:
     final garbage collection.
 
     The collection at exit walks every object numba and llvmlite made while loading the
-    kernels, about 0.3 s of a 1.5 s run (``benchmarks/run.py``, paper scene). Nothing is left to
+    kernels, about 0.3 s (docs/performance.md, "The whole conslaw run process"). Nothing is left to
     finalise by then: every file is written and closed, and ``atexit`` handlers still run.
     ``gc.freeze`` is not used by :func:`main` itself, which tests call in one long process.
     """
