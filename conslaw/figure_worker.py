@@ -95,11 +95,13 @@ def _serve(connection: Connection, parent_end: Connection) -> None:
     and remove an interrupted write's temporary file."""
     parent_end.close()
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    for name in ("SIGTERM", "SIGHUP"):
-        signal.signal(getattr(signal, name), _stop)
-    _die_with_the_parent()
     folder: Path | None = None
     try:
+        # Inside the try: a stop that comes at once (a run failing at its first step) must not
+        # escape to multiprocessing, which would print a traceback.
+        for name in ("SIGTERM", "SIGHUP"):
+            signal.signal(getattr(signal, name), _stop)
+        _die_with_the_parent()
         _warm_up()
         job = connection.recv()
         if job is None:
