@@ -37,6 +37,7 @@ DEFAULTS: dict[str, Any] = {
     "t_end": REQUIRED,
     "output_times": [],
     "exact": True,
+    "max_steps": 100_000_000,
     "boundary": {"left": "outflow", "right": "outflow"},
     "initial": REQUIRED,
     "output": {"formats": ["npz"], "plot": True},
@@ -60,6 +61,8 @@ KEY_HELP: dict[str, str] = {
     "t_end": "final time",
     "output_times": "times (<= t_end) at which states are saved; t_end is always saved",
     "exact": "compare with the model's exact solution when it has one",
+    "max_steps": "stop the run with an error after this many time steps (integer >= 1; the "
+    "check runs between kernel calls, so it may overshoot by one call)",
     "boundary": "table: left, right = a boundary name or { kind = ..., options }",
     "initial": "table: kind (piecewise-constant, sine) and its options",
     "output": (
@@ -110,6 +113,7 @@ class Scene:
     plot: bool
     front_tracking: bool = False
     scheme_options: Mapping[str, Any] = field(default_factory=dict)
+    max_steps: int = DEFAULTS["max_steps"]
 
     @property
     def scheme_label(self) -> str:
@@ -145,6 +149,7 @@ class Scene:
             "t_end": self.t_end,
             "output_times": list(self.output_times),
             "exact": self.exact,
+            "max_steps": self.max_steps,
             "parameters": dict(self.parameters),
             "boundary": {"left": self.left.to_toml(), "right": self.right.to_toml()},
             "initial": {"kind": self.initial.kind, **self.initial.options},
@@ -334,6 +339,9 @@ def validate(name: str, raw: Mapping[str, Any], folder: Path | None = None) -> S
         )
     if not isinstance(table["exact"], bool):
         raise ConfigError(f"scene key 'exact': expected true or false, got {table['exact']!r}")
+    max_steps = table["max_steps"]
+    if isinstance(max_steps, bool) or not isinstance(max_steps, int) or max_steps < 1:
+        raise ConfigError(f"scene key 'max_steps': expected an integer >= 1, got {max_steps!r}")
 
     boundary = _check_table(table["boundary"], "boundary", ("left", "right"))
     left = _boundary_side(boundary.get("left", "outflow"), "left")
@@ -383,6 +391,7 @@ def validate(name: str, raw: Mapping[str, Any], folder: Path | None = None) -> S
         plot=plot,
         front_tracking=front_tracking,
         scheme_options=scheme_options,
+        max_steps=max_steps,
     )
 
 

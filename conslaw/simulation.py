@@ -165,6 +165,8 @@ def simulate(
 
     def report(t: float, n: int) -> None:
         reached[:] = [t, result.steps + n]
+        if result.steps + n > scene.max_steps and t < scene.t_end:
+            raise SchemeBreakdownError(step_limit_message(scene, initial.t, t, result.steps + n))
         if progress is not None:
             progress(t, result.steps + n)
 
@@ -200,6 +202,20 @@ def simulate(
         number = getattr(interrupt, "signal_number", signal.SIGINT)
         raise RunInterrupted(reached[0], int(reached[1]), last_output, number) from None
     return result
+
+
+def step_limit_message(scene: Scene, t_start: float, t: float, steps: int) -> str:
+    """The one line a run stopped by ``max_steps`` reports: where it stopped, its mean time step
+    and how many steps the whole run would need at that rate."""
+    elapsed = t - t_start
+    mean_dt = elapsed / steps if steps else 0.0
+    need = f"about {steps * (scene.t_end - t_start) / elapsed:.2g}" if elapsed > 0 else "unbounded"
+    return (
+        f"scene key 'max_steps' = {scene.max_steps} reached: the run stopped at t={t:.6g} of "
+        f"t_end={scene.t_end:g} after {steps} steps (mean time step {mean_dt:.3g}); at this "
+        f"rate it needs {need} steps. Raise max_steps, or look for a fast wave in the initial "
+        f"data (a thin layer with a large momentum moves at momentum / depth)"
+    )
 
 
 def _record(result: RunResult, state: State, margin_rows: list[Array]) -> None:

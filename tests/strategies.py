@@ -491,8 +491,10 @@ def scene_tables(draw: st.DrawFn, model_name: str | None = None) -> dict[str, ob
     n = draw(st.integers(8, 40))
     x_min = draw(st.floats(-10.0, 10.0))
     length = draw(log_uniform(0.1, 100.0))
-    breaks = sorted(set(draw(st.lists(st.floats(0.05, 0.95), min_size=0, max_size=3))))
-    states = draw(admissible_states(name, st.just(MIN_CELLS)))[:, : len(breaks) + 1]
+    fractions = draw(st.lists(st.floats(0.05, 0.95), min_size=0, max_size=3))
+    # Distinct fractions can round to the same breakpoint far from the origin: keep distinct points.
+    breakpoints = sorted({x_min + b * length for b in fractions})
+    states = draw(admissible_states(name, st.just(MIN_CELLS)))[:, : len(breakpoints) + 1]
     boundary = draw(st.sampled_from(("periodic", "outflow", "wall")))
     side = draw(st.sampled_from(("outflow", "wall"))) if boundary != "periodic" else boundary
     scene: dict[str, object] = {
@@ -507,7 +509,7 @@ def scene_tables(draw: st.DrawFn, model_name: str | None = None) -> dict[str, ob
         "boundary": {"left": boundary, "right": side},
         "initial": {
             "kind": "piecewise-constant",
-            "breakpoints": [x_min + b * length for b in breaks],
+            "breakpoints": breakpoints,
             "states": [
                 [float(v) for v in states[:, k]] if model.n_vars > 1 else float(states[0, k])
                 for k in range(states.shape[1])

@@ -186,6 +186,8 @@ CASES: list[BadInput] = [
     bad("boundary-not-a-table", [*RIEMANN, "boundary=5"], ["boundary", "table"], {}),
     bad("parameters-not-a-table", [*RIEMANN, "parameters=3"], ["parameters", "table"], {}),
     bad("exact-not-bool", [*RIEMANN, 'exact="yes"'], ["exact", "true or false"], {}),
+    bad("max_steps-zero", [*RIEMANN, "max_steps=0"], ["max_steps", "integer >= 1"], {}),
+    bad("max_steps-not-integer", [*RIEMANN, "max_steps=1.5e6"], ["max_steps", "integer"], {}),
     bad(
         "front_tracking-not-bool",
         [*SH, "front_tracking=1"],

@@ -255,6 +255,40 @@ def test_a_failure_mid_run_keeps_every_earlier_output_and_says_so(
     assert not (out / "profiles.png").exists()
 
 
+#: A thin film (h = 6e-8) with momentum -0.5 on 13 periodic cells: every wave moves at 8.6e6,
+#: so the honest CFL step is 1e-9 and t_end = 0.5 needs about 5e8 steps.
+FAST_FILM = [
+    "run", "dam-break-wet", "--set", "n_cells=13", "--set", "cfl=0.11", "--set", "t_end=0.5",
+    "--set", "x_min=0.0", "--set", "x_max=1.0", "--set", "output_times=[1e-5]",
+    "--set", 'boundary={left="periodic", right="periodic"}',
+    "--set", 'initial={kind="piecewise-constant", breakpoints=[], states=[[5.96e-8, -0.514]]}',
+    "--set", "output.plot=false", "--set", "max_steps=300000",
+]  # fmt: skip
+
+
+def test_a_run_past_max_steps_stops_with_one_line_and_keeps_its_outputs(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``max_steps`` turns a run that would take hours (an honest CFL step of 1e-9) into one
+    error line naming the key, the time reached, the mean step and the steps needed; the output
+    before it loads intact."""
+    from conslaw.cli import main
+
+    out = tmp_path / "out"
+    assert main([*FAST_FILM, "--out", str(out)]) == 2
+    error = capsys.readouterr().err.strip().splitlines()
+    assert len(error) == 1 and "scene key 'max_steps' = 300000 reached" in error[0], error
+    assert f"outputs up to t=1e-05 are complete in {out}" in error[0]
+    mean_dt = float(error[0].split("mean time step ")[1].split(")")[0])
+    need = float(error[0].split("needs about ")[1].split(" steps")[0])
+    speed = 0.514 / 5.96e-8 + np.sqrt(9.81 * 5.96e-8)
+    assert mean_dt == pytest.approx(0.11 * (1.0 / 13) / speed, rel=1e-2)
+    assert need == pytest.approx(0.5 / mean_dt, rel=0.1)
+    with np.load(out / "states.npz") as saved:
+        np.testing.assert_array_equal(saved["t"], [1e-5])
+        np.testing.assert_allclose(saved["q"][0], [[5.96e-8] * 13, [-0.514] * 13], rtol=1e-14)
+
+
 def test_nothing_is_written_when_the_first_step_fails(tmp_path: Path) -> None:
     """A run that fails before its first output time creates no folder."""
     process = cli(

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 import tempfile
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -21,6 +22,7 @@ from hypothesis import HealthCheck, given, settings, strategies as st
 from stability_cases import scheme
 from strategies import chute_parameters, chute_table_text, chute_tables, scene_tables
 
+from conslaw import registry
 from conslaw.config import DEFAULTS, validate
 from conslaw.errors import ConfigError, ConslawError
 from conslaw.grid import Grid
@@ -68,12 +70,42 @@ def test_one_junk_value_is_a_config_error_or_a_valid_scene(
         assert "\n" not in str(error) and str(error)
 
 
+#: Steps a random scene is given at its initial time step (its t_end is shortened to fit).
+STEP_BUDGET = 20_000
+#: How far the mean time step may fall below the initial one before the run counts as stalled.
+COLLAPSE_FACTOR = 20
+
+
+def initial_time_step(scene: Any) -> float:
+    """The CFL time step ``cfl dx / max speed`` of the scene's initial cell averages."""
+    model = registry.models.get(scene.model)(**scene.parameters)
+    grid = Grid(scene.x_min, scene.x_max, scene.n_cells)
+    q0 = scene.initial.cell_averages(grid, model)
+    aux = model.aux(grid.centres(), grid.dx) if model.n_aux else None
+    speed = float(np.max(model.max_wave_speed(q0, aux)))
+    return scene.cfl * grid.dx / speed if speed > 0 else math.inf
+
+
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(table=scene_tables())
 def test_random_valid_scenes_run_clean(table: dict[str, Any]) -> None:
     """Random model, parameters, reconstructor, CFL, boundaries and Riemann data: the run ends
-    with finite, admissible values and depths >= 0 (no exact comparison needed)."""
+    with finite, admissible values and depths >= 0 (no exact comparison needed).
+
+    The drawn states include thin layers with large momenta (|hu| up to 10 on h ~ 1e-7: speeds
+    of 1e7 and more), whose honest CFL step needs 1e8 steps and more to ``t_end``: the run is
+    shortened to about :data:`STEP_BUDGET` steps at the initial time step, and ``max_steps``
+    (the scene key) stops one whose time step then collapses by more than
+    :data:`COLLAPSE_FACTOR`.
+    """
     scene = validate("random", {**table, "exact": False})
+    t_budget = STEP_BUDGET * initial_time_step(scene)
+    scene = replace(
+        scene,
+        t_end=min(scene.t_end, t_budget),
+        output_times=(min(scene.t_end, t_budget),),
+        max_steps=COLLAPSE_FACTOR * STEP_BUDGET,
+    )
     result = simulate(scene)
     final = result.final
     assert np.all(np.isfinite(final.q))
