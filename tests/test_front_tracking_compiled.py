@@ -147,3 +147,32 @@ def test_inadmissible_state_fails_as_the_reference() -> None:
     assert compiled[0] is InadmissibleStateError
     assert "cell 30" in compiled[1]
     assert compiled == reference
+
+
+def test_a_body_shorter_than_two_cells_fails_as_the_reference() -> None:
+    """Two margins running into each other (u = +-3 in a 6-cell body): the same error, time
+    and step on both paths."""
+    scheme, state, _ = tracker("sh-similarity-ft", n_cells=60)
+    middle = scheme.n_primary // 2
+    h, u = np.zeros_like(state.x), np.zeros_like(state.x)
+    h[middle - 3 : middle + 3] = [0.3, 1.0, 1.0, 1.0, 1.0, 0.3]
+    u[middle - 3 : middle + 3] = [3.0, 3.0, 3.0, -3.0, -3.0, -3.0]
+    body = scheme.initial_margins(State(0.0, state.x, np.vstack([h, h * u])))
+    compiled = failure_text(lambda: scheme.advance(body, 2.0))
+    reference = failure_text(lambda: scheme.reference_advance(body, 2.0))
+    assert compiled[0] is SchemeBreakdownError
+    assert "the body became shorter than 2 cells at t=" in compiled[1] and "step" in compiled[1]
+    assert compiled == reference
+
+
+def test_a_time_step_below_the_floor_fails_as_the_reference(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A floor above every stable step (1 dx): both paths stop at once with the same line."""
+    scheme, state, _ = tracker("sh-similarity-ft", n_cells=60)
+    monkeypatch.setattr(front_tracking, "DT_FLOOR_RELATIVE", 1.0)
+    compiled = failure_text(lambda: scheme.advance(state, 2.0))
+    reference = failure_text(lambda: scheme.reference_advance(state, 2.0))
+    assert compiled[0] is SchemeBreakdownError
+    assert "fell below the floor 1*dx at t=0, step 0" in compiled[1]
+    assert compiled == reference
