@@ -711,3 +711,26 @@ def test_mirrored_data_gives_the_mirrored_solution(
         1e-13 * scale(q),
         f"mirror symmetry of {reconstructor}/{boundary}",
     )
+
+
+@pytest.mark.parametrize(
+    ("name", "family"), [(m, f) for m in MODEL_NAMES for f in PARAMETER_FAMILIES[m]]
+)
+@settings(max_examples=50, deadline=None)
+@given(data=st.data())
+def test_a_model_that_says_its_coefficients_are_uniform_gives_the_same_everywhere(
+    name: str, family: str, data: st.DataObject
+) -> None:
+    """``Model.uniform_aux()`` lets front tracking ask for the coefficients once (at a margin
+    anywhere): when a model says so, ``aux(x, dx)`` is the same column, bit for bit, at any
+    positions and cell widths."""
+    model = model_with(name, data.draw(PARAMETER_FAMILIES[name][family].strategy, "parameters"))
+    if not model.uniform_aux():
+        return
+    # The centres of the test grid (where the parameter families put their beds and bends),
+    # and positions drawn around it.
+    drawn = data.draw(st.lists(st.floats(2 * X_MIN - X_MAX, 2 * X_MAX - X_MIN), max_size=16), "x")
+    x = np.concatenate([Grid(X_MIN, X_MAX, 16).centres(), drawn])
+    dx = data.draw(st.floats(1e-6, 10.0), "dx")
+    first = model.aux(x[:1], 1.0)
+    np.testing.assert_array_equal(model.aux(x, dx), np.repeat(first, x.size, axis=1))
