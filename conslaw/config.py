@@ -21,6 +21,9 @@ from conslaw.initial import InitialCondition
 
 REQUIRED = object()
 
+#: Largest ``max_steps`` (a TOML integer is 64-bit; no run gets anywhere near it).
+MAX_STEPS = 10**15
+
 #: Every top-level scene key with its default (REQUIRED: the scene must give it).
 DEFAULTS: dict[str, Any] = {
     "description": "",
@@ -61,8 +64,10 @@ KEY_HELP: dict[str, str] = {
     "t_end": "final time",
     "output_times": "times (<= t_end) at which states are saved; t_end is always saved",
     "exact": "compare with the model's exact solution when it has one",
-    "max_steps": "stop the run with an error after this many time steps (integer >= 1; the "
-    "check runs between kernel calls, so it may overshoot by one call)",
+    "max_steps": "stop the run with an error once it has taken more time steps than this "
+    "before t_end (integer >= 1; checked at every progress report: nessyahu-tadmor every "
+    "4e6/n_cells steps, front tracking every 1e6/n_cells, lagrangian every 200, and at every "
+    "output time)",
     "boundary": "table: left, right = a boundary name or { kind = ..., options }",
     "initial": "table: kind (piecewise-constant, sine) and its options",
     "output": (
@@ -340,8 +345,14 @@ def validate(name: str, raw: Mapping[str, Any], folder: Path | None = None) -> S
     if not isinstance(table["exact"], bool):
         raise ConfigError(f"scene key 'exact': expected true or false, got {table['exact']!r}")
     max_steps = table["max_steps"]
-    if isinstance(max_steps, bool) or not isinstance(max_steps, int) or max_steps < 1:
-        raise ConfigError(f"scene key 'max_steps': expected an integer >= 1, got {max_steps!r}")
+    if (
+        isinstance(max_steps, bool)
+        or not isinstance(max_steps, int)
+        or not 1 <= max_steps <= MAX_STEPS
+    ):
+        raise ConfigError(
+            f"scene key 'max_steps': expected an integer >= 1 and <= {MAX_STEPS}, got {max_steps!r}"
+        )
 
     boundary = _check_table(table["boundary"], "boundary", ("left", "right"))
     left = _boundary_side(boundary.get("left", "outflow"), "left")

@@ -37,6 +37,14 @@ class SchemeBreakdownError(ConslawError, ArithmeticError):
         self.completed_states: list[Any] = []
 
 
+class StepLimitError(SchemeBreakdownError):
+    """A run took more time steps than the scene's ``max_steps`` before reaching ``t_end``.
+
+    Not a failure of the scheme: its CFL step is honest but tiny (a fast wave). The outputs
+    reached before the limit are kept, as for every :class:`SchemeBreakdownError`.
+    """
+
+
 def unknown_name_message(kind: str, name: str, allowed: Iterable[str]) -> str:
     """One line naming the unknown ``name``, the allowed values and a close match if any."""
     allowed = sorted(allowed)

@@ -15,7 +15,7 @@ from numpy.typing import NDArray
 from conslaw import registry
 from conslaw.analysis import ErrorNorms, error_norms, total_mass
 from conslaw.config import Scene, load_scene
-from conslaw.errors import ConfigError, RunInterrupted, SchemeBreakdownError
+from conslaw.errors import ConfigError, RunInterrupted, SchemeBreakdownError, StepLimitError
 from conslaw.exact import ExactSolution, Unavailable
 from conslaw.grid import Grid
 from conslaw.model import Model
@@ -161,12 +161,14 @@ def simulate(
         np.zeros(model.n_vars), 0.0, exact_note,
     )  # fmt: skip
     reached = [initial.t, 0.0]  # time and steps the solution has reached
+    target = [initial.t]  # the output time the scheme is advancing to
     last_output: float | None = None
 
     def report(t: float, n: int) -> None:
         reached[:] = [t, result.steps + n]
-        if result.steps + n > scene.max_steps and t < scene.t_end:
-            raise SchemeBreakdownError(step_limit_message(scene, initial.t, t, result.steps + n))
+        # Not at the output time itself: that state is recorded first (checked after it).
+        if result.steps + n > scene.max_steps and t < target[0]:
+            raise StepLimitError(step_limit_message(scene, initial.t, t, result.steps + n))
         if progress is not None:
             progress(t, result.steps + n)
 
@@ -179,6 +181,7 @@ def simulate(
         margin_rows: list[Array] = []
         for t_out in scene.output_times:
             if t_out > state.t:
+                target[0] = t_out
                 started = time.perf_counter()
                 try:
                     advanced = scheme.advance(state, t_out, report)
@@ -196,6 +199,10 @@ def simulate(
             if on_output is not None:
                 on_output(result)
             last_output = state.t
+            if result.steps > scene.max_steps and state.t < scene.t_end:
+                stop = StepLimitError(step_limit_message(scene, initial.t, state.t, result.steps))
+                stop.completed_states = list(result.states)
+                raise stop
     except RunInterrupted:
         raise
     except KeyboardInterrupt as interrupt:
@@ -209,12 +216,16 @@ def step_limit_message(scene: Scene, t_start: float, t: float, steps: int) -> st
     and how many steps the whole run would need at that rate."""
     elapsed = t - t_start
     mean_dt = elapsed / steps if steps else 0.0
-    need = f"about {steps * (scene.t_end - t_start) / elapsed:.2g}" if elapsed > 0 else "unbounded"
+    if elapsed > 0:
+        need = steps * (scene.t_end - t_start) / elapsed
+        need_text = f"about {need:.0f}" if need < 1e6 else f"about {need:.2g}"
+    else:
+        need_text = "unboundedly many"
     return (
         f"scene key 'max_steps' = {scene.max_steps} reached: the run stopped at t={t:.6g} of "
         f"t_end={scene.t_end:g} after {steps} steps (mean time step {mean_dt:.3g}); at this "
-        f"rate it needs {need} steps. Raise max_steps, or look for a fast wave in the initial "
-        f"data (a thin layer with a large momentum moves at momentum / depth)"
+        f"rate it needs {need_text} steps. Raise max_steps, or look for a fast wave in the "
+        f"data (with a depth: a thin layer with a large momentum moves at momentum / depth)"
     )
 
 

@@ -506,6 +506,7 @@ def scene_tables(draw: st.DrawFn, model_name: str | None = None) -> dict[str, ob
         "x_min": x_min,
         "x_max": x_min + length,
         "t_end": draw(log_uniform(1e-3, 1.0)),
+        "max_steps": draw(st.integers(1, 10**15)),
         "boundary": {"left": boundary, "right": side},
         "initial": {
             "kind": "piecewise-constant",

@@ -188,6 +188,7 @@ CASES: list[BadInput] = [
     bad("exact-not-bool", [*RIEMANN, 'exact="yes"'], ["exact", "true or false"], {}),
     bad("max_steps-zero", [*RIEMANN, "max_steps=0"], ["max_steps", "integer >= 1"], {}),
     bad("max_steps-not-integer", [*RIEMANN, "max_steps=1.5e6"], ["max_steps", "integer"], {}),
+    bad("max_steps-too-large", [*RIEMANN, "max_steps=10000000000000000"], ["max_steps", "<="], {}),
     bad(
         "front_tracking-not-bool",
         [*SH, "front_tracking=1"],

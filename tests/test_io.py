@@ -16,7 +16,7 @@ import pytest
 from test_cli import CONSLAW, cli
 
 import conslaw
-from conslaw.errors import InadmissibleStateError
+from conslaw.errors import InadmissibleStateError, StepLimitError
 from conslaw.schemes.nessyahu_tadmor import NessyahuTadmor
 
 ALL_FORMATS = {"output.formats": ["npz", "xdmf", "vtu", "csv"]}
@@ -255,38 +255,59 @@ def test_a_failure_mid_run_keeps_every_earlier_output_and_says_so(
     assert not (out / "profiles.png").exists()
 
 
-#: A thin film (h = 6e-8) with momentum -0.5 on 13 periodic cells: every wave moves at 8.6e6,
-#: so the honest CFL step is 1e-9 and t_end = 0.5 needs about 5e8 steps.
+#: A thin film (h = 5.96e-8) with momentum -0.514 on 13 periodic cells (g = 1): every wave
+#: moves at 8.6e6, so the honest CFL step is 1e-9 and t_end = 0.5 needs about 5e8 steps.
 FAST_FILM = [
     "run", "dam-break-wet", "--set", "n_cells=13", "--set", "cfl=0.11", "--set", "t_end=0.5",
     "--set", "x_min=0.0", "--set", "x_max=1.0", "--set", "output_times=[1e-5]",
     "--set", 'boundary={left="periodic", right="periodic"}',
     "--set", 'initial={kind="piecewise-constant", breakpoints=[], states=[[5.96e-8, -0.514]]}',
-    "--set", "output.plot=false", "--set", "max_steps=300000",
+    "--set", "output.plot=false",
 ]  # fmt: skip
+FILM_SPEED = 0.514 / 5.96e-8 + np.sqrt(5.96e-8)
 
 
+@pytest.mark.parametrize(
+    ("max_steps", "reached"),
+    [
+        (300_000, 0.00031),  # stops between two progress reports, after the output at 1e-5
+        (5_000, 1e-5),  # over the limit when it reaches the output at 1e-5: written, then stop
+    ],
+)
 def test_a_run_past_max_steps_stops_with_one_line_and_keeps_its_outputs(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], max_steps: int, reached: float
 ) -> None:
     """``max_steps`` turns a run that would take hours (an honest CFL step of 1e-9) into one
-    error line naming the key, the time reached, the mean step and the steps needed; the output
-    before it loads intact."""
+    error line naming the key, the time reached and the mean step (that of the fastest wave);
+    every output time reached is written, including one reached past the limit."""
     from conslaw.cli import main
 
     out = tmp_path / "out"
-    assert main([*FAST_FILM, "--out", str(out)]) == 2
+    assert main([*FAST_FILM, "--set", f"max_steps={max_steps}", "--out", str(out)]) == 2
     error = capsys.readouterr().err.strip().splitlines()
-    assert len(error) == 1 and "scene key 'max_steps' = 300000 reached" in error[0], error
+    assert len(error) == 1 and f"scene key 'max_steps' = {max_steps} reached" in error[0], error
     assert f"outputs up to t=1e-05 are complete in {out}" in error[0]
+    stopped = float(error[0].split("stopped at t=")[1].split(" ")[0])
+    assert stopped == pytest.approx(reached, rel=0.05)
     mean_dt = float(error[0].split("mean time step ")[1].split(")")[0])
-    need = float(error[0].split("needs about ")[1].split(" steps")[0])
-    speed = 0.514 / 5.96e-8 + np.sqrt(9.81 * 5.96e-8)
-    assert mean_dt == pytest.approx(0.11 * (1.0 / 13) / speed, rel=1e-2)
-    assert need == pytest.approx(0.5 / mean_dt, rel=0.1)
+    assert mean_dt == pytest.approx(0.11 * (1.0 / 13) / FILM_SPEED, rel=1e-2)
     with np.load(out / "states.npz") as saved:
         np.testing.assert_array_equal(saved["t"], [1e-5])
         np.testing.assert_allclose(saved["q"][0], [[5.96e-8] * 13, [-0.514] * 13], rtol=1e-14)
+
+
+def test_max_steps_stops_a_run_only_before_t_end_and_after_recording_an_output_time() -> None:
+    """burgers-riemann takes 112 steps to its output at t = 0.5 and 224 to t_end = 1, each
+    stretch in one kernel call: with ``max_steps = 1`` and no output time before t_end the run
+    is complete; with the output at 0.5 it stops there, after recording that state."""
+    whole = conslaw.run("burgers-riemann", output_times=[])
+    limited = conslaw.run("burgers-riemann", max_steps=1, output_times=[])
+    assert limited.steps == whole.steps > 1 and limited.final.t == limited.scene.t_end
+    np.testing.assert_array_equal(limited.final.q, whole.final.q)
+    with pytest.raises(StepLimitError) as stop:
+        conslaw.run("burgers-riemann", max_steps=1)
+    assert "stopped at t=0.5 of t_end=1 after 112 steps" in str(stop.value)
+    assert stop.value.completed_states[-1].t == 0.5
 
 
 def test_nothing_is_written_when_the_first_step_fails(tmp_path: Path) -> None:
