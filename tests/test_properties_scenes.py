@@ -23,11 +23,10 @@ from hypothesis import HealthCheck, event, given, settings, strategies as st
 from stability_cases import scheme
 from strategies import chute_parameters, chute_table_text, chute_tables, scene_tables
 
-from conslaw import registry
 from conslaw.config import DEFAULTS, validate
 from conslaw.errors import ConfigError, ConslawError, SchemeBreakdownError
 from conslaw.grid import Grid
-from conslaw.simulation import simulate
+from conslaw.simulation import build, simulate
 from conslaw.state import State
 from conslaw_models.chute import TableChute, make_chute
 
@@ -78,13 +77,9 @@ COLLAPSE_FACTOR = 20
 
 
 def initial_time_step(scene: Any) -> float:
-    """The CFL time step ``cfl dx / max speed`` of the scene's initial cell averages."""
-    model = registry.models.get(scene.model)(**scene.parameters)
-    grid = Grid(scene.x_min, scene.x_max, scene.n_cells)
-    q0 = scene.initial.cell_averages(grid, model)
-    aux = model.aux(grid.centres(), grid.dx) if model.n_aux else None
-    speed = float(np.max(model.max_wave_speed(q0, aux)))
-    return scene.cfl * grid.dx / speed if speed > 0 else math.inf
+    """The time step the scene's scheme takes from its initial state (CFL and source limits)."""
+    _, _, scheme, initial, _ = build(scene)
+    return scheme.stable_dt(initial)
 
 
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])

@@ -607,13 +607,7 @@ class FrontTrackingNT(NessyahuTadmor):
         InadmissibleStateError
             A state outside the model's admissible set, or a margin that is not finite.
         """
-        _, staggered = self._family(state)
-        if staggered:
-            raise ValueError("advance() starts from the primary grid (offset 0)")
-        if not t_end >= state.t:
-            raise ConfigError(f"t_end={t_end} is before the state's time {state.t}")
-        if state.margins is None:
-            state = self.initial_margins(state)
+        state = self._start(state, t_end)
         assert state.margins is not None
         kernels = self.ft_kernels
         n = self.n_primary
@@ -702,18 +696,22 @@ class FrontTrackingNT(NessyahuTadmor):
             f"front tracking failed (status {status}) at t={t:.6g}, step {step}"
         )
 
-    def reference_advance(
-        self, state: State, t_end: float, progress: ProgressCallback | None = None
-    ) -> AdvanceResult:
-        """:meth:`advance` in numpy (the NT update with :class:`MarginCellHooks`, a Python loop
-        over the steps): the reference the compiled path is tested against."""
+    def _start(self, state: State, t_end: float) -> State:
+        """The state an advance to ``t_end`` starts from: on the primary grid, not after
+        ``t_end``, with its margins (located now if it has none)."""
         _, staggered = self._family(state)
         if staggered:
             raise ValueError("advance() starts from the primary grid (offset 0)")
         if not t_end >= state.t:
             raise ConfigError(f"t_end={t_end} is before the state's time {state.t}")
-        if state.margins is None:
-            state = self.initial_margins(state)
+        return state if state.margins is not None else self.initial_margins(state)
+
+    def reference_advance(
+        self, state: State, t_end: float, progress: ProgressCallback | None = None
+    ) -> AdvanceResult:
+        """:meth:`advance` in numpy (the NT update with :class:`MarginCellHooks`, a Python loop
+        over the steps): the reference the compiled path is tested against."""
+        state = self._start(state, t_end)
         assert state.margins is not None
         history: list[Any] = [state.margins.row(state.t)]
         steps = 0
