@@ -132,3 +132,34 @@ def test_no_allocation_per_step() -> None:
             _nrt_python.memsys_disable_stats()
     assert steps[1] >= 50 * steps[0]
     assert counts[0] == counts[1], f"allocations for {steps} steps: {counts}"
+
+
+def test_thin_tail_velocity_bound_matches_reference_in_a_later_block(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A cap sliding down an 89-degree chute leaves a thin tail in the kernel's second block of
+    cells. The kernel bounds tail velocities in a second pass over the block
+    (``bound_tail_velocities``); every step equals the numpy reference to ``1e-12 max|q|``, and
+    the bound changes at least one new cell in that block (checked against the reference with
+    the bound switched off, ``THIN_TAIL = 0``)."""
+    from stability_cases import _cap, scheme
+
+    import conslaw.schemes.nessyahu_tadmor as nt_module
+
+    nt = scheme("savage-hutter", {"zeta": 89.0, "phi": 30.0, "delta": 30.0}, Grid(0, 60, 600))
+    block = nt.kernels.BLOCK
+    height = _cap(nt.grid, 34.0, 1.0, 1.0)
+    state = State(0.0, nt.grid.centres(), np.vstack([height, 0.0 * height]))
+    bounded_cells = []
+    for _ in range(10):
+        dt = nt.stable_dt(state)
+        compiled = nt.step(state, dt)
+        reference = nt.reference_step(state, dt)
+        error = np.abs(compiled.q - reference.q).max()
+        assert error <= 1e-12 * np.abs(state.q).max(), f"t={state.t}: {error:.3e}"
+        with monkeypatch.context() as patch:
+            patch.setattr(nt_module, "THIN_TAIL", 0.0)
+            unbounded = nt.reference_step(state, dt)
+        bounded_cells.extend(np.flatnonzero(unbounded.q[1] != reference.q[1]))
+        state = compiled
+    assert any(block <= cell < 2 * block for cell in bounded_cells), bounded_cells

@@ -100,9 +100,8 @@ BLOCK = 256
 STRIDE = BLOCK + 8
 # Rows of the work array: slopes, fluxes at t^{n+1/2}, the sources at the left and right quarter
 # points (with a balanced source: the predicted states), the resistance at both quarter points,
-# the wave speed of each new cell (NaN where it is inadmissible), the velocities of the source
-# cells (column j + 1 for source cell j, for the momentum-slope bound) and the lower and upper ends
-# of their velocity ranges (same columns, for the bound on the new velocities).
+# the wave speed of each new cell (NaN where it is inadmissible) and the velocities of the source
+# cells (column j + 1 for source cell j, for the momentum-slope bound).
 SLOPE = 0
 FLUX = NV
 SOURCE_LEFT = 2 * NV
@@ -111,9 +110,7 @@ RESIST_LEFT = 4 * NV
 RESIST_RIGHT = 4 * NV + 1
 SPEED = 4 * NV + 2
 VELOCITY = 4 * NV + 3
-VELOCITY_LOW = 4 * NV + 4
-VELOCITY_HIGH = 4 * NV + 5
-WORK_ROWS = 4 * NV + 6
+WORK_ROWS = 4 * NV + 4
 WORK_SIZE = WORK_ROWS * STRIDE
 # Lanes of the partial maxima of the wave speed (one SIMD register of doubles).
 LANES = 8
@@ -338,6 +335,21 @@ def velocity_range(src, i, dt, aux_centre, params, state, coefficients, out):  #
     return u - 2.0 * celerity - dt * change, u + 2.0 * celerity + dt * change
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def tail_velocity_range(src, i, dt, aux_centre, params, state, coefficients, out):  # type: ignore[no-untyped-def]
+    """Smallest lower and largest upper end of :func:`velocity_range` over padded cells
+    ``i .. i + 3`` (the four source cells of a new cell); ``state``, ``coefficients`` and ``out``
+    are scratch."""
+    low, high = velocity_range(src, i, dt, aux_centre, params, state, coefficients, out)
+    for other in range(i + 1, i + 4):
+        other_low, other_high = velocity_range(
+            src, other, dt, aux_centre, params, state, coefficients, out
+        )
+        low = min(low, other_low)
+        high = max(high, other_high)
+    return low, high
+
+
 @njit(cache=True, error_model="numpy")
 def predict_cells(  # type: ignore[no-untyped-def]
     src, first, count, dt, dx, aux_centre, aux_left_quarter, aux_right_quarter, parameters, work
@@ -361,13 +373,6 @@ def predict_cells(  # type: ignore[no-untyped-def]
         # Each velocity once (three cells use it), in its own loop (one division per cell).
         for j in range(count + 2):
             work[slot(VELOCITY, j)] = cell_velocity(src, first - 1 + j)
-        # The velocity range of every source cell, for the bound on the new velocities.
-        for j in range(count + 2):
-            low, high = velocity_range(
-                src, first - 1 + j, dt, aux_centre, params, state, coefficients, result
-            )
-            work[slot(VELOCITY_LOW, j)] = low
-            work[slot(VELOCITY_HIGH, j)] = high
     for j in range(count):
         i = first + j
         c = col(i)
@@ -430,6 +435,71 @@ def predict_cells(  # type: ignore[no-untyped-def]
                 work[slot(RESIST_LEFT, j)] = _resistance_point(state, coefficients, params)
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def in_thin_tail(src, left, depth):  # type: ignore[no-untyped-def]
+    """Whether a new cell of depth ``depth`` over source cells ``left``, ``left + 1`` is a thin
+    tail: wet, and shallower than ``THIN_TAIL`` times the deepest of its four source cells
+    ``left - 1 .. left + 2`` (where the velocity bound of :func:`bound_tail_velocities` acts)."""
+    deepest = max(
+        max(src[DEPTH, col(left - 1)], src[DEPTH, col(left)]),
+        max(src[DEPTH, col(left + 1)], src[DEPTH, col(left + 2)]),
+    )
+    return depth >= DRY_DEPTH and depth > 0.0 and depth < THIN_TAIL * deepest
+
+
+@njit(cache=True, error_model="numpy")
+def bound_tail_velocities(  # type: ignore[no-untyped-def]
+    src, dst, first, dst_first, count, dt, aux_centre, aux_dst, params, work
+):
+    """In each thin tail (:func:`in_thin_tail`) among the new cells ``dst_first ..
+    dst_first + count - 1``, clamp the velocity to the range of its four source cells
+    (:func:`tail_velocity_range`), and redo its wave speed in the SPEED row.
+
+    A second pass over a block in which :func:`average_cells` counted a thin tail (rare), with
+    the same arithmetic as a clamp inside that loop. Returns the change in its counts of moving
+    cells and of cells without a finite wave speed (the depth, and so the count of negative
+    depths, is not changed).
+    """
+    state = local_vector(NV)
+    coefficients = local_vector(NAUX)
+    probe = local_vector(NV)
+    probe_coefficients = local_vector(NAUX)
+    result = local_vector(NV)
+    moving_change = 0
+    bad_change = 0
+    for j in range(count):
+        new = col(dst_first + j)
+        depth = dst[DEPTH, new]
+        if not in_thin_tail(src, first + j, depth):
+            continue
+        low, high = tail_velocity_range(
+            src, first + j - 1, dt, aux_centre, params, probe, probe_coefficients, result
+        )
+        momentum = dst[MOMENTUM, new]
+        velocity = momentum / depth
+        if velocity < low:
+            bounded = low * depth
+        elif velocity > high:
+            bounded = high * depth
+        else:
+            continue
+        dst[MOMENTUM, new] = bounded
+        moving_change += int(bounded != 0.0) - int(momentum != 0.0)
+        for v in range(NV):
+            state[v] = dst[v, new]
+        for k in range(NAUX):
+            coefficients[k] = aux_dst[k, new]
+        speed = np.nan
+        if _admissible_point(state, coefficients, params):
+            speed = _max_speed_point(state, coefficients, params)
+        old_speed = work[slot(SPEED, j)]
+        bad_change += int(not (speed >= 0.0 and speed < np.inf)) - int(
+            not (old_speed >= 0.0 and old_speed < np.inf)
+        )
+        work[slot(SPEED, j)] = speed
+    return moving_change, bad_change
+
+
 @njit(cache=True, error_model="numpy")
 def average_cells(  # type: ignore[no-untyped-def]
     src, dst, first, dst_first, count, dt, dx, aux_centre, aux_dst, parameters, work
@@ -451,6 +521,7 @@ def average_cells(  # type: ignore[no-untyped-def]
     negative = 0
     moving = 0
     bad = 0
+    tails = 0
     for j in range(count):
         left = col(first + j)
         right = col(first + j + 1)
@@ -484,28 +555,10 @@ def average_cells(  # type: ignore[no-untyped-def]
             coefficients[k] = aux_dst[k, new]
         if HAS_CORRECTION:
             _correct_point(state, coefficients, params, dt)
-        if DEPTH >= 0 and MOMENTUM >= 0:
-            # In a thin tail, the new velocity within the range of the four source cells
-            # (velocity_range, THIN_TAIL).
-            depth = state[DEPTH]
-            deepest = max(
-                max(src[DEPTH, col(first + j - 1)], src[DEPTH, left]),
-                max(src[DEPTH, right], src[DEPTH, col(first + j + 2)]),
-            )
-            if depth >= DRY_DEPTH and depth > 0.0 and depth < THIN_TAIL * deepest:
-                low = min(
-                    min(work[slot(VELOCITY_LOW, j)], work[slot(VELOCITY_LOW, j + 1)]),
-                    min(work[slot(VELOCITY_LOW, j + 2)], work[slot(VELOCITY_LOW, j + 3)]),
-                )
-                high = max(
-                    max(work[slot(VELOCITY_HIGH, j)], work[slot(VELOCITY_HIGH, j + 1)]),
-                    max(work[slot(VELOCITY_HIGH, j + 2)], work[slot(VELOCITY_HIGH, j + 3)]),
-                )
-                velocity = state[MOMENTUM] / depth
-                if velocity < low:
-                    state[MOMENTUM] = low * depth
-                elif velocity > high:
-                    state[MOMENTUM] = high * depth
+        if DEPTH >= 0 and MOMENTUM >= 0 and in_thin_tail(src, first + j, state[DEPTH]):
+            # Counted only: the bound is applied by bound_tail_velocities after the loop, so
+            # that this loop has no call in a branch and stays vectorised.
+            tails += 1
         for v in range(NV):
             dst[v, new] = state[v]
         if DEPTH >= 0 and state[DEPTH] < 0.0:
@@ -518,6 +571,12 @@ def average_cells(  # type: ignore[no-untyped-def]
         if not (speed >= 0.0 and speed < np.inf):
             bad += 1
         work[slot(SPEED, j)] = speed
+    if tails > 0:
+        moving_change, bad_change = bound_tail_velocities(
+            src, dst, first, dst_first, count, dt, aux_centre, aux_dst, params, work
+        )
+        moving += moving_change
+        bad += bad_change
     return negative, moving, bad
 
 
