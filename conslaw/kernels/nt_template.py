@@ -25,6 +25,9 @@ How the kernel is made fast without a second copy of the physics:
 - **Registers, not arrays, per cell.** The model's pointwise functions fill small arrays; here
   those are stack arrays of a compile-time size (:mod:`conslaw.kernels.scratch`). After inlining,
   LLVM keeps them in registers, and the loops over the cells of a block compile to SIMD code.
+- **No calls in the branches of a per-cell loop.** A call in a branch (even a rare one) keeps
+  LLVM from vectorising the loop. Rare work is counted in the loop and done in a second pass over
+  the block: the thin-tail velocity bound (:func:`bound_tail_velocities`).
 - **Unsigned column indices** (:func:`col`): numba wraps negative indices around, a select per
   access that would turn every load into a gather; the kernel's indices are never negative.
 - **Compile-time switches** (constants of the generated module; unused branches are removed):
