@@ -40,7 +40,6 @@ from conslaw.kernels.nt_template import (
     NG,
     NPARAMS,
     NV,
-    THIN_TAIL,
     _admissible_point,
     _coefficients_point,
     _correct_point,
@@ -55,13 +54,14 @@ from conslaw.kernels.nt_template import (
     cell_velocity,
     col,
     copy_cells,
+    in_thin_tail,
     load_params,
     local_matrix,
     local_vector,
     resist,
     source_step_limit,
     stencil_slope,
-    velocity_range,
+    tail_velocity_range,
 )
 
 # isort: split
@@ -92,9 +92,7 @@ FT_FLUX = NV
 FT_QUARTER_LEFT = 2 * NV
 FT_QUARTER_RIGHT = 3 * NV
 FT_VELOCITY = 4 * NV
-FT_VELOCITY_LOW = 4 * NV + 1
-FT_VELOCITY_HIGH = 4 * NV + 2
-FT_WORK_ROWS = 4 * NV + 3
+FT_WORK_ROWS = 4 * NV + 1
 # Profile row of a margin: fitted slope S and curvature C of h = S d - C d^2, mean velocity of
 # the inner neighbour, velocity gradient, position and velocity at the start and at mid-step,
 # the triangle's slope in the margin cell, the sign (+1 front, -1 rear).
@@ -341,11 +339,6 @@ def ft_predict(  # type: ignore[no-untyped-def]
     inverse_dx = 1.0 / dx
     for j in range(count + 2):
         work[FT_VELOCITY, col(j)] = cell_velocity(src, first - 1 + j)
-        low, high = velocity_range(
-            src, first - 1 + j, dt, aux_centre, params, state, coefficients, result
-        )
-        work[FT_VELOCITY_LOW, col(j)] = low
-        work[FT_VELOCITY_HIGH, col(j)] = high
     for j in range(count):
         i = first + j
         c = col(i)
@@ -407,7 +400,18 @@ def ft_predict(  # type: ignore[no-untyped-def]
 
 @njit(cache=True, error_model="numpy")
 def ft_average(  # type: ignore[no-untyped-def]
-    src, dst, first, count, dt, dx, aux_left_quarter, aux_right_quarter, aux_dst, parameters, work
+    src,
+    dst,
+    first,
+    count,
+    dt,
+    dx,
+    aux_centre,
+    aux_left_quarter,
+    aux_right_quarter,
+    aux_dst,
+    parameters,
+    work,
 ):
     """The new cells ``NG .. NG + count - 1`` (eq. 10) with the sources on the mid-step mass
     (``adjust_source_depths``), the resistance, the correction and the thin-tail velocity
@@ -417,6 +421,8 @@ def ft_average(  # type: ignore[no-untyped-def]
     right = local_vector(NV)
     result = local_vector(NV)
     coefficients = local_vector(NAUX)
+    probe = local_vector(NV)
+    probe_coefficients = local_vector(NAUX)
     params = local_vector(NPARAMS)
     load_params(parameters, params)
     half_dt = 0.5 * dt
@@ -466,18 +472,11 @@ def ft_average(  # type: ignore[no-untyped-def]
         if HAS_CORRECTION:
             _correct_point(state, coefficients, params, dt)
         depth = state[DEPTH]
-        deepest = max(
-            max(src[DEPTH, col(first + j - 1)], src[DEPTH, a]),
-            max(src[DEPTH, b], src[DEPTH, col(first + j + 2)]),
-        )
-        if depth >= DRY_DEPTH and depth > 0.0 and depth < THIN_TAIL * deepest:
-            low = min(
-                min(work[FT_VELOCITY_LOW, col(j)], work[FT_VELOCITY_LOW, col(j + 1)]),
-                min(work[FT_VELOCITY_LOW, col(j + 2)], work[FT_VELOCITY_LOW, col(j + 3)]),
-            )
-            high = max(
-                max(work[FT_VELOCITY_HIGH, col(j)], work[FT_VELOCITY_HIGH, col(j + 1)]),
-                max(work[FT_VELOCITY_HIGH, col(j + 2)], work[FT_VELOCITY_HIGH, col(j + 3)]),
+        if in_thin_tail(src, first + j, depth):
+            # The ranges only where the bound acts (this loop is not vectorised: the margin
+            # cells branch anyway).
+            low, high = tail_velocity_range(
+                src, first + j - 1, dt, aux_centre, params, probe, probe_coefficients, result
             )
             velocity = state[MOMENTUM] / depth
             if velocity < low:
@@ -572,8 +571,9 @@ def ft_step(  # type: ignore[no-untyped-def]
         margin_of,
     )  # fmt: skip
     ft_average(
-        src, dst, first, n_dst, dt, dx, aux_left_quarter, aux_right_quarter, aux_dst, params, work
-    )
+        src, dst, first, n_dst, dt, dx, aux_centre, aux_left_quarter, aux_right_quarter, aux_dst,
+        params, work,
+    )  # fmt: skip
     confine(dst, n_dst, x_dst, dx, new_margins)
     state = local_vector(NV)
     coefficients = local_vector(NAUX)
