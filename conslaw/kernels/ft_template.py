@@ -58,6 +58,7 @@ from conslaw.kernels.nt_template import (
     load_params,
     local_matrix,
     local_vector,
+    predict_point,
     resist,
     source_step_limit,
     stencil_slope,
@@ -361,24 +362,10 @@ def ft_predict(  # type: ignore[no-untyped-def]
             work[FT_SLOPE + v, col(j)] = slope[v]
         for k in range(NAUX):
             coefficients[k] = aux_centre[k, c]
-        if HAS_DYNAMIC_COEFFICIENTS:
-            _coefficients_point(state, slope, coefficients, params)
-        _jacobian_point(state, coefficients, params, matrix)
-        for r in range(NV):
-            acc = 0.0
-            for k in range(NV):
-                acc += matrix[r, k] * slope[k]
-            rate[r] = -acc * inverse_dx
-        if HAS_SOURCE:
-            _source_point(state, coefficients, params, result)
-            for v in range(NV):
-                rate[v] += result[v]
-        for v in range(NV):
-            predicted[v] = state[v] + half_dt * rate[v]
-        if HAS_RESISTANCE:
-            predicted[MOMENTUM] = resist(
-                predicted[MOMENTUM], half_dt * _resistance_point(state, coefficients, params)
-            )
+        predict_point(
+            state, slope, coefficients, params, half_dt, inverse_dx, matrix, rate, result,
+            predicted,
+        )  # fmt: skip
         if margin >= 0:
             margin_predicted(x_padded[i], profiles[margin], predicted)
         elif state[DEPTH] > 0.0:

@@ -339,6 +339,34 @@ def velocity_range(src, i, dt, aux_centre, params, state, coefficients, out):  #
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def predict_point(  # type: ignore[no-untyped-def]
+    state, slope, coefficients, params, half_dt, inverse_dx, matrix, rate, result, predicted
+):
+    """The predictor of one cell, eq. (15): ``predicted = w + dt/2 (-A(w) w'/dx + s(w))``, then
+    the resistance over dt/2 with the stopping rule. ``coefficients`` are the cell's (a model
+    with dynamic coefficients sets them here from the slopes); ``matrix``, ``rate`` and
+    ``result`` are scratch."""
+    if HAS_DYNAMIC_COEFFICIENTS:
+        _coefficients_point(state, slope, coefficients, params)
+    _jacobian_point(state, coefficients, params, matrix)
+    for r in range(NV):
+        acc = 0.0
+        for k in range(NV):
+            acc += matrix[r, k] * slope[k]
+        rate[r] = -acc * inverse_dx
+    if HAS_SOURCE:
+        _source_point(state, coefficients, params, result)
+        for v in range(NV):
+            rate[v] += result[v]
+    for v in range(NV):
+        predicted[v] = state[v] + half_dt * rate[v]
+    if HAS_RESISTANCE:
+        predicted[MOMENTUM] = resist(
+            predicted[MOMENTUM], half_dt * _resistance_point(state, coefficients, params)
+        )
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def tail_velocity_range(src, i, dt, aux_centre, params, state, coefficients, out):  # type: ignore[no-untyped-def]
     """Smallest lower and largest upper end of :func:`velocity_range` over padded cells
     ``i .. i + 3`` (the four source cells of a new cell); ``state``, ``coefficients`` and ``out``
@@ -391,24 +419,10 @@ def predict_cells(  # type: ignore[no-untyped-def]
             work[slot(SLOPE + v, j)] = slope[v]
         for k in range(NAUX):
             coefficients[k] = aux_centre[k, c]
-        if HAS_DYNAMIC_COEFFICIENTS:
-            _coefficients_point(state, slope, coefficients, params)
-        _jacobian_point(state, coefficients, params, matrix)
-        for r in range(NV):
-            acc = 0.0
-            for k in range(NV):
-                acc += matrix[r, k] * slope[k]
-            rate[r] = -acc * inverse_dx
-        if HAS_SOURCE:
-            _source_point(state, coefficients, params, result)
-            for v in range(NV):
-                rate[v] += result[v]
-        for v in range(NV):
-            predicted[v] = state[v] + half_dt * rate[v]
-        if HAS_RESISTANCE:
-            predicted[MOMENTUM] = resist(
-                predicted[MOMENTUM], half_dt * _resistance_point(state, coefficients, params)
-            )
+        predict_point(
+            state, slope, coefficients, params, half_dt, inverse_dx, matrix, rate, result,
+            predicted,
+        )  # fmt: skip
         _flux_point(predicted, coefficients, params, result)
         for v in range(NV):
             work[slot(FLUX + v, j)] = result[v]
