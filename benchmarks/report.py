@@ -83,7 +83,7 @@ def work_precision_table(report: dict[str, Any]) -> list[str]:
             cells += [_seconds(mine), _seconds(other) if theirs else "-", ratio]
         lines.append(f"| {row['scene']} | {' | '.join(cells)} |")
     for problem, reason in ((report.get("pyclaw") or {}).get("not_run") or {}).items():
-        lines.append(f"\nPyClaw on {problem}: not run. {reason}.")
+        lines.append(f"\nPyClaw on {problem}: no work-precision row: {reason}.")
     return lines
 
 

@@ -163,3 +163,92 @@ def test_thin_tail_velocity_bound_matches_reference_in_a_later_block(
         bounded_cells.extend(np.flatnonzero(unbounded.q[1] != reference.q[1]))
         state = compiled
     assert any(block <= cell < 2 * block for cell in bounded_cells), bounded_cells
+
+
+def test_bound_tail_velocities_updates_counts_and_speeds() -> None:
+    """The second pass over a block recounts what it changes: two thin tails over a dry bed
+    whose velocity range is [.., 0] are stopped (u = 1 and an overflowing u, both bounded to 0).
+    Both leave the count of moving cells, the overflowing one the count of cells without a finite
+    wave speed, and the SPEED row gets the wave speed of the bounded state."""
+    from stability_cases import scheme
+
+    nt = scheme("shallow-water", {}, Grid(0.0, 6.0, 6), "outflow")
+    kernels = nt.kernels
+    ng = kernels.NG
+    src = np.zeros((2, 6 + 2 * ng + 1))
+    src[:, ng - 1] = [1.0, -5.0]  # deep, supercritical to the left: range [-7, -3]
+    src[:, ng] = [1e-6, -5e-6]  # thin, the same velocity; the cells to the right are dry
+    dst = np.zeros_like(src)
+    dst[:, ng] = [1e-6, 1e-6]  # thin tail moving right, u = 1 above the range
+    dst[:, ng + 1] = [1e-10, 1e308]  # thinner tail whose velocity overflows
+    speeds = kernels.SPEED * kernels.STRIDE + np.arange(2)
+    work = np.zeros(kernels.WORK_SIZE)
+    work[speeds] = [1.0 + 1e-3, np.inf]  # |u| + sqrt(g h) before the bound
+    aux = nt._aux[0.0][0]
+    moving_change, bad_change = kernels.bound_tail_velocities(
+        src, dst, ng, ng, 2, 0.01, aux, aux, nt.params, work
+    )
+    assert (moving_change, bad_change) == (-2, -1)
+    np.testing.assert_array_equal(dst[1, ng : ng + 2], [0.0, 0.0])
+    np.testing.assert_array_equal(dst[0, ng : ng + 2], [1e-6, 1e-10])
+    np.testing.assert_allclose(work[speeds], np.sqrt([1e-6, 1e-10]), rtol=1e-15)
+
+
+@pytest.mark.parametrize(
+    ("model", "parameters", "boundary"),
+    [
+        ("shallow-water", {}, "outflow"),
+        ("savage-hutter", {"zeta": 89.0, "phi": 30.0, "delta": 30.0}, "wall"),
+    ],
+)
+def test_step_returns_the_counts_and_speed_of_its_new_state(
+    model: str, parameters: dict[str, float], boundary: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """On random states with thin layers, dry cells and fast flows (over three blocks), what
+    ``nt_step`` returns for the time loop (the largest wave speed, the first bad cell, the number
+    of moving cells) is what its new state has, although the thin-tail bound changes cells after
+    the block's loop counted them. The bound acts in most of these steps and changes the largest
+    wave speed in some (found with the reference step with ``THIN_TAIL = 0``)."""
+    from stability_cases import scheme
+
+    import conslaw.schemes.nessyahu_tadmor as nt_module
+    from conslaw.schemes.nessyahu_tadmor import GHOSTS
+
+    nt = scheme(model, parameters, Grid(0.0, 60.0, 600), boundary)
+    kernels = nt.kernels
+    aux = nt._aux[0.0]
+    aux_dst = nt._aux[0.5][0]
+    rng = np.random.default_rng(3)
+    bounded = speed_changed = admissible = 0
+    for trial in range(100):
+        depth = 10.0 ** rng.uniform(-14.0, 1.0, 600)
+        depth[rng.random(600) < 0.2] = 0.0
+        velocity = rng.normal(0.0, 3.0, 600) * (100.0 if trial % 2 else 1.0)
+        state = State(0.0, nt.grid.centres(), np.vstack([depth, depth * velocity]), 0.0)
+        dt = 0.9 * nt.stable_dt(state)
+        src = np.zeros_like(nt._w0)
+        dst = np.zeros_like(nt._w1)
+        src[:, GHOSTS : GHOSTS + 600] = state.q
+        largest, bad, _, moving = kernels.nt_step(
+            src, dst, 600, nt.n_staggered, -1, False, dt, nt.grid.dx, aux[0], aux[1], aux[2],
+            aux_dst, nt.params, nt.bc_left, nt.bc_right, np.zeros(kernels.WORK_SIZE),
+        )  # fmt: skip
+        # (largest, -1), or (-1, i) at the first inadmissible new cell (a negative depth: the
+        # time loop would halve dt), as the kernel's own pass over the new state finds them.
+        assert (largest, bad) == kernels.max_speed(dst, nt.n_staggered, aux_dst, nt.params)
+        assert moving == kernels.count_moving(dst, nt.n_staggered)
+        admissible += bad == -1
+        reference = nt.reference_step(state, dt)
+        with monkeypatch.context() as patch:
+            patch.setattr(nt_module, "THIN_TAIL", 0.0)
+            unbounded = nt.reference_step(state, dt)
+        if np.any(unbounded.q[1] != reference.q[1]):
+            bounded += 1
+            new_aux = aux_dst[:, GHOSTS : GHOSTS + nt.n_staggered]
+            speed_changed += bad == -1 and (
+                nt.model.max_wave_speed(unbounded.q, new_aux).max()
+                != nt.model.max_wave_speed(reference.q, new_aux).max()
+            )
+    assert admissible >= 30 and bounded >= 50 and speed_changed >= 1, (
+        admissible, bounded, speed_changed,
+    )  # fmt: skip
