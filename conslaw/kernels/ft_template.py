@@ -51,6 +51,7 @@ from conslaw.kernels.nt_template import (
     _resistance_point,
     _source_point,
     bound_momentum_slope,
+    bounded_tail_momentum,
     cell_velocity,
     col,
     copy_cells,
@@ -62,7 +63,6 @@ from conslaw.kernels.nt_template import (
     resist,
     source_step_limit,
     stencil_slope,
-    tail_velocity_range,
 )
 
 # isort: split
@@ -414,6 +414,7 @@ def ft_average(  # type: ignore[no-untyped-def]
     load_params(parameters, params)
     half_dt = 0.5 * dt
     ratio = dt / dx
+    tails = 0
     for j in range(count):
         a = col(first + j)
         b = col(first + j + 1)
@@ -458,20 +459,19 @@ def ft_average(  # type: ignore[no-untyped-def]
             coefficients[k] = aux_dst[k, new]
         if HAS_CORRECTION:
             _correct_point(state, coefficients, params, dt)
-        depth = state[DEPTH]
-        if in_thin_tail(src, first + j, depth):
-            # The ranges only where the bound acts (this loop is not vectorised: the margin
-            # cells branch anyway).
-            low, high = tail_velocity_range(
-                src, first + j - 1, dt, aux_centre, params, probe, probe_coefficients, result
-            )
-            velocity = state[MOMENTUM] / depth
-            if velocity < low:
-                state[MOMENTUM] = low * depth
-            elif velocity > high:
-                state[MOMENTUM] = high * depth
+        # Counted here, bounded after the loop (as the NT kernel's average_cells does).
+        tails += int(in_thin_tail(src, first + j, state[DEPTH]))
         for v in range(NV):
             dst[v, new] = state[v]
+    if tails > 0:
+        for j in range(count):
+            new = col(NG + j)
+            bounded, changed = bounded_tail_momentum(
+                src, first + j, dst[DEPTH, new], dst[MOMENTUM, new], dt, aux_centre, params,
+                probe, probe_coefficients, result,
+            )  # fmt: skip
+            if changed:
+                dst[MOMENTUM, new] = bounded
 
 
 @njit(cache=True)

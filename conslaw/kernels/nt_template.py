@@ -466,6 +466,25 @@ def in_thin_tail(src, left, depth):  # type: ignore[no-untyped-def]
     return depth >= DRY_DEPTH and depth > 0.0 and depth < THIN_TAIL * deepest
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def bounded_tail_momentum(  # type: ignore[no-untyped-def]
+    src, left, depth, momentum, dt, aux_centre, params, state, coefficients, out
+):
+    """``(momentum, changed)`` of a new cell of depth ``depth`` over source cells ``left``,
+    ``left + 1`` after the thin-tail bound: in a thin tail (:func:`in_thin_tail`) a velocity
+    outside the range of the four source cells (:func:`tail_velocity_range`) is moved to the
+    nearer end of it. ``state``, ``coefficients`` and ``out`` are scratch."""
+    if not in_thin_tail(src, left, depth):
+        return momentum, False
+    low, high = tail_velocity_range(src, left - 1, dt, aux_centre, params, state, coefficients, out)
+    velocity = momentum / depth
+    if velocity < low:
+        return low * depth, True
+    if velocity > high:
+        return high * depth, True
+    return momentum, False
+
+
 @njit(cache=True, error_model="numpy")
 def bound_tail_velocities(  # type: ignore[no-untyped-def]
     src, dst, first, dst_first, count, dt, aux_centre, aux_dst, params, work
@@ -488,19 +507,12 @@ def bound_tail_velocities(  # type: ignore[no-untyped-def]
     bad_change = 0
     for j in range(count):
         new = col(dst_first + j)
-        depth = dst[DEPTH, new]
-        if not in_thin_tail(src, first + j, depth):
-            continue
-        low, high = tail_velocity_range(
-            src, first + j - 1, dt, aux_centre, params, probe, probe_coefficients, result
-        )
         momentum = dst[MOMENTUM, new]
-        velocity = momentum / depth
-        if velocity < low:
-            bounded = low * depth
-        elif velocity > high:
-            bounded = high * depth
-        else:
+        bounded, changed = bounded_tail_momentum(
+            src, first + j, dst[DEPTH, new], momentum, dt, aux_centre, params, probe,
+            probe_coefficients, result,
+        )  # fmt: skip
+        if not changed:
             continue
         dst[MOMENTUM, new] = bounded
         moving_change += int(bounded != 0.0) - int(momentum != 0.0)
