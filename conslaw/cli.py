@@ -18,6 +18,7 @@ from conslaw.errors import ConslawError
 if TYPE_CHECKING:
     from conslaw.config import Scene
     from conslaw.io import RunWriter
+    from conslaw.simulation import RunResult
 
 EXIT_INPUT = 2
 
@@ -99,15 +100,33 @@ class _ProgressBar:
 
 
 class _SignalInterrupt(KeyboardInterrupt):
-    """SIGTERM (or SIGHUP) turned into a KeyboardInterrupt, so a run stops as on Ctrl-C."""
+    """SIGINT, SIGTERM or SIGHUP turned into a KeyboardInterrupt, so a run stops as on Ctrl-C."""
 
     def __init__(self, signal_number: int) -> None:
         super().__init__(signal_number)
         self.signal_number = signal_number
 
 
-def _raise_interrupt(signal_number: int, frame: Any) -> None:
-    raise _SignalInterrupt(signal_number)
+class _SignalLatch:
+    """The signal handler of a run: it raises :class:`_SignalInterrupt` at once, as Ctrl-C does,
+    and also remembers the signal, so that :meth:`check` raises it again at the run's next
+    progress report or output time if the first exception was swallowed. An exception raised by
+    a signal handler lands wherever Python happens to be, and C code that clears errors (numba's
+    dispatcher while it types a call's arguments, for one) can drop it: a Ctrl-C was once lost
+    that way, and the run went on to its end."""
+
+    def __init__(self) -> None:
+        self.received: int | None = None
+
+    def __call__(self, signal_number: int, frame: Any) -> None:
+        if self.received is None:
+            self.received = signal_number
+        raise _SignalInterrupt(signal_number)
+
+    def check(self) -> None:
+        """Raise :class:`_SignalInterrupt` if a signal came."""
+        if self.received is not None:
+            raise _SignalInterrupt(self.received)
 
 
 def _command_run(args: argparse.Namespace) -> int:
@@ -139,10 +158,20 @@ def _run_scene(scene: Scene, out: Path, writer: RunWriter) -> int:
     from conslaw.simulation import simulate
 
     bar = _ProgressBar(scene.t_end)
-    signals = [s for s in ("SIGTERM", "SIGHUP") if hasattr(signal, s)]
-    previous = {name: signal.signal(getattr(signal, name), _raise_interrupt) for name in signals}
+    latch = _SignalLatch()
+
+    def progress(t: float, steps: int) -> None:
+        latch.check()
+        bar(t, steps)
+
+    def on_output(result: RunResult) -> None:
+        writer(result)
+        latch.check()
+
+    signals = [s for s in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, s)]
+    previous = {name: signal.signal(getattr(signal, name), latch) for name in signals}
     try:
-        result = simulate(scene, progress=bar, on_output=writer)
+        result = simulate(scene, progress=progress, on_output=on_output)
     except RunInterrupted as interrupted:
         bar.close()
         if writer.last_time != interrupted.last_output:  # the signal came as it finished one
