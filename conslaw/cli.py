@@ -111,9 +111,10 @@ class _SignalLatch:
     """The signal handler of a run: it raises :class:`_SignalInterrupt` at once, as Ctrl-C does,
     and also remembers the signal, so that :meth:`check` raises it again at the run's next
     progress report or output time if the first exception was swallowed. An exception raised by
-    a signal handler lands wherever Python happens to be, and C code that clears errors (numba's
-    dispatcher while it types a call's arguments, for one) can drop it: a Ctrl-C was once lost
-    that way, and the run went on to its end."""
+    a signal handler lands wherever Python happens to be, and code that catches or clears errors
+    there can drop it. A SIGINT was once lost in a run under the test suite (``python -m
+    conslaw.cli``, cold kernel cache): the run went on to its end; where it was lost is not
+    known."""
 
     def __init__(self) -> None:
         self.received: int | None = None

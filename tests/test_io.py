@@ -259,10 +259,10 @@ def test_a_failure_mid_run_keeps_every_earlier_output_and_says_so(
 def test_an_interrupt_swallowed_mid_run_still_stops_the_run(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """A Ctrl-C whose KeyboardInterrupt is swallowed where it lands (as C code that clears
-    errors can do: one was lost in a CI run, which then went on to its end) still stops the run
-    at its next progress report or output time: exit 130, the one-line message, and the outputs
-    before it intact."""
+    """A Ctrl-C whose KeyboardInterrupt is swallowed where it lands (code that catches or
+    clears errors can do that; a SIGINT was once lost under the test suite and its run went on
+    to the end) still stops the run at its next progress report or output time: exit 130, the
+    one-line message, and the outputs before it intact."""
     advance = NessyahuTadmor.advance
     calls = []
     swallowed = []
