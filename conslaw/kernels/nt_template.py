@@ -455,6 +455,21 @@ def predict_cells(  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def new_cell_speed(state, coefficients, params):  # type: ignore[no-untyped-def]
+    """Largest wave speed of a new cell, NaN if it is inadmissible (the SPEED row)."""
+    speed = np.nan
+    if _admissible_point(state, coefficients, params):
+        speed = _max_speed_point(state, coefficients, params)
+    return speed
+
+
+@njit(cache=True, inline="always")
+def no_finite_speed(speed):  # type: ignore[no-untyped-def]
+    """Whether a SPEED-row value is not a finite wave speed >= 0 (inadmissible, or overflow)."""
+    return not (speed >= 0.0 and speed < np.inf)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def in_thin_tail(src, left, depth):  # type: ignore[no-untyped-def]
     """Whether a new cell of depth ``depth`` over source cells ``left``, ``left + 1`` is a thin
     tail: wet, and shallower than ``THIN_TAIL`` times the deepest of its four source cells
@@ -520,13 +535,8 @@ def bound_tail_velocities(  # type: ignore[no-untyped-def]
             state[v] = dst[v, new]
         for k in range(NAUX):
             coefficients[k] = aux_dst[k, new]
-        speed = np.nan
-        if _admissible_point(state, coefficients, params):
-            speed = _max_speed_point(state, coefficients, params)
-        old_speed = work[slot(SPEED, j)]
-        bad_change += int(not (speed >= 0.0 and speed < np.inf)) - int(
-            not (old_speed >= 0.0 and old_speed < np.inf)
-        )
+        speed = new_cell_speed(state, coefficients, params)
+        bad_change += int(no_finite_speed(speed)) - int(no_finite_speed(work[slot(SPEED, j)]))
         work[slot(SPEED, j)] = speed
     return moving_change, bad_change
 
@@ -596,10 +606,8 @@ def average_cells(  # type: ignore[no-untyped-def]
             negative += 1
         if MOMENTUM >= 0 and state[MOMENTUM] != 0.0:
             moving += 1
-        speed = np.nan
-        if _admissible_point(state, coefficients, params):
-            speed = _max_speed_point(state, coefficients, params)
-        if not (speed >= 0.0 and speed < np.inf):
+        speed = new_cell_speed(state, coefficients, params)
+        if no_finite_speed(speed):
             bad += 1
         work[slot(SPEED, j)] = speed
     if tails > 0:
