@@ -116,13 +116,7 @@ class InitialCondition:
                 f"initial.states[{k}] = {states_raw[k]!r} is not an admissible state of "
                 f"'{model.name}'"
             )
-        edges = grid.edges
-        # Overlap length of every cell with every constant piece: exact averages.
-        bounds = np.concatenate([[-np.inf], breakpoints, [np.inf]])
-        lo = np.clip(edges[:-1, None], bounds[None, :-1], bounds[None, 1:])
-        hi = np.clip(edges[1:, None], bounds[None, :-1], bounds[None, 1:])
-        weights = (hi - lo) / grid.dx
-        averages = np.ascontiguousarray(states @ weights.T)
+        averages = piecewise_constant_averages(grid.edges, breakpoints, states)
         if model.capabilities()["correction"]:
             # Admissible states need not average to an admissible one: 60 % of a moving film of
             # 1e-10 (wet if the dry tolerance is below it) and 40 % of a dry bed make a cell
@@ -143,3 +137,33 @@ class InitialCondition:
         edges = grid.edges
         antiderivative = mean * edges - amplitude / k * np.cos(k * (edges - grid.x_min))
         return (np.diff(antiderivative) / grid.dx)[None, :]
+
+
+def piecewise_constant_averages(edges: Array, breakpoints: Array, states: Array) -> Array:
+    """Exact cell averages of constant ``states[:, k]`` between increasing ``breakpoints``.
+
+    A cell inside one piece gets that piece's state bit for bit (a uniform layer starts exactly
+    uniform); a cell with breakpoints inside gets the difference of the antiderivative
+    ``F(x) = integral from breakpoints[0] to x`` at its edges over its width. Memory and time are
+    linear in the number of cells plus pieces (no cells-by-pieces matrix).
+    """
+    left, right = edges[:-1], edges[1:]
+    piece_left = np.searchsorted(breakpoints, left, side="right")
+    piece_right = np.searchsorted(breakpoints, right, side="left")
+    averages = np.ascontiguousarray(states[:, piece_left])
+    split = np.nonzero(piece_left != piece_right)[0]
+    if split.size:
+        lengths = np.diff(breakpoints)
+        # F at every breakpoint: the integral over the pieces between breakpoints[0] and it.
+        at_breakpoints = np.concatenate(
+            [np.zeros((states.shape[0], 1)), np.cumsum(states[:, 1:-1] * lengths, axis=1)], axis=1
+        )
+
+        def antiderivative(x: Array) -> Array:
+            piece = np.searchsorted(breakpoints, x, side="right")
+            start = np.maximum(piece - 1, 0)
+            return at_breakpoints[:, start] + states[:, piece] * (x - breakpoints[start])
+
+        width = right[split] - left[split]
+        averages[:, split] = (antiderivative(right[split]) - antiderivative(left[split])) / width
+    return averages

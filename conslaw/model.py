@@ -99,9 +99,22 @@ class Model(ABC):
     #: accelerate or reverse it.
     resistance_point: ClassVar[Callable[..., float] | None] = None
     #: Optional ``coefficients_point(q, slope, aux, params)``: sets per-cell coefficients in
-    #: ``aux`` (in place) from the cell's state and reconstructed slopes before the flux and
-    #: Jacobian are evaluated (the Savage–Hutter earth-pressure coefficient).
+    #: ``aux`` (in place) from the cell's state and reconstructed slopes before the Jacobian of
+    #: the predictor is evaluated (the Savage–Hutter earth-pressure coefficient).
     coefficients_point: ClassVar[Callable[..., None] | None] = None
+    #: Optional ``interface_coefficients_point(left, right, aux_left, aux_right, params)``: sets,
+    #: in place, the coefficients with which the fluxes at the two ends of one staggered cell are
+    #: evaluated, from the mid-step states ``left`` and ``right`` there. Both fluxes of a cell
+    #: then use one coefficient (the Savage–Hutter earth pressure of the cell: a switch between
+    #: neighbours then exerts no force of its own, docs/design.md, "Earth pressure").
+    interface_coefficients_point: ClassVar[Callable[..., None] | None] = None
+    #: Optional ``rest_coefficients_point(low, high, params)``: for material at rest, whose
+    #: dynamic coefficients its motion does not determine, sets (in place, from the static
+    #: coefficients in both) the two ends of the range they may take (the Savage–Hutter earth
+    #: pressure of a static mass lies anywhere between ``K_act`` and ``K_pass``). The NT scheme
+    #: stops material that some continuous choice in that range, with the resistance, brings to
+    #: rest within a step (docs/design.md, "Earth pressure").
+    rest_coefficients_point: ClassVar[Callable[..., None] | None] = None
     #: ``(bed average, bed slope)`` rows of ``aux``: the depth variable is then reconstructed as
     #: the surface ``depth + bed`` (surface gradient method), its slope being
     #: ``slope(surface) - dx * bed slope``.
@@ -170,8 +183,11 @@ class Model(ABC):
         """What this instance uses; the compiled kernels leave out everything else.
 
         Keys: ``source`` (source term), ``balanced_source`` (staggered-cell source),
-        ``surface`` (surface reconstruction of the depth), ``correction`` (pointwise correction).
-        A model whose parameters switch a term off (a flat bed) overrides this.
+        ``surface`` (surface reconstruction of the depth), ``correction`` (pointwise correction),
+        ``resistance`` (Coulomb-type resistance), ``dynamic_coefficients`` (per-cell coefficients
+        from the slopes), ``interface_coefficients`` (one coefficient per staggered cell for its
+        two fluxes), ``rest_coefficients`` (a range of coefficients for material at rest). A
+        model whose parameters switch a term off (a flat bed) overrides this.
         """
         return {
             "source": bool(self.has_source),
@@ -180,6 +196,8 @@ class Model(ABC):
             "correction": self.correct_point is not None,
             "resistance": self.resistance_point is not None,
             "dynamic_coefficients": self.coefficients_point is not None,
+            "interface_coefficients": self.interface_coefficients_point is not None,
+            "rest_coefficients": self.rest_coefficients_point is not None,
         }
 
     def conserved_rows(self) -> tuple[int, ...]:
@@ -290,6 +308,29 @@ class Model(ABC):
             slopes = np.ascontiguousarray(slopes, dtype=np.float64)
             self._compiled_arrays().coefficients_cells(q, slopes, out, self.param_vector())
         return out
+
+    def interface_coefficients(
+        self, left: Array, right: Array, aux_left: Array, aux_right: Array
+    ) -> tuple[Array, Array]:
+        """Copies of ``aux_left``, ``aux_right`` with ``interface_coefficients_point`` applied to
+        every pair of columns (the two ends of one staggered cell)."""
+        left, aux_left = self._prepare(left, aux_left)
+        right, aux_right = self._prepare(right, aux_right)
+        out_left, out_right = aux_left.copy(), aux_right.copy()
+        if self.capabilities()["interface_coefficients"]:
+            self._compiled_arrays().interface_coefficients_cells(
+                left, right, out_left, out_right, self.param_vector()
+            )
+        return out_left, out_right
+
+    def rest_coefficients(self, aux: Array) -> tuple[Array, Array]:
+        """The low and high ends of the range of coefficients of material whose coefficients
+        are not determined (``rest_coefficients_point`` applied to two copies of ``aux``)."""
+        low = np.array(aux, dtype=np.float64, order="C", copy=True)
+        high = low.copy()
+        if self.capabilities()["rest_coefficients"]:
+            self._compiled_arrays().rest_coefficients_cells(low, high, self.param_vector())
+        return low, high
 
     def is_admissible(self, q: Array, aux: Array | None = None) -> NDArray[np.bool_]:
         """Whether every column of ``q`` lies in the admissible set (finite, and model rules)."""

@@ -97,16 +97,54 @@ def resistance_point(q, aux, params):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
+def earth_pressure(stretching, params):  # type: ignore[no-untyped-def]
+    """The earth-pressure coefficient for a velocity change ``stretching`` along the flow across
+    a cell (eq. 5; docs/design.md, "Earth pressure"): ``K_pass`` where the material contracts
+    (``< 0``), ``K_act`` where it extends and where it does neither (``= 0``: uniform flow,
+    next to a dry cell). Material that ends a step at rest takes any value between the two
+    instead (:func:`rest_coefficients_point`)."""
+    return params[K_PASSIVE] if stretching < 0.0 else params[K_ACTIVE]
+
+
+@njit(cache=True)
 def coefficients_point(q, slope, aux, params):  # type: ignore[no-untyped-def]
-    """Earth-pressure coefficient of the cell (eq. 5): ``K_act`` if the reconstructed velocity
-    slope ``u' = (m' - u h') / h`` is >= 0, ``K_pass`` if it is < 0 (``K_act`` in dry cells)."""
+    """Earth-pressure coefficient of a cell for its predictor, by :func:`earth_pressure` from
+    the velocity change across the cell, the reconstructed ``u' = (m' - u h') / h`` (0 in a dry
+    cell)."""
     h = q[0]
-    k = params[K_ACTIVE]
+    stretching = 0.0
     if h >= params[DRY] and h > 0.0:
-        u = q[1] / h
-        if slope[1] - u * slope[0] < 0.0:
-            k = params[K_PASSIVE]
-    aux[K] = k
+        stretching = slope[1] - (q[1] / h) * slope[0]
+    aux[K] = earth_pressure(stretching, params)
+
+
+@njit(cache=True)
+def interface_coefficients_point(left, right, aux_left, aux_right, params):  # type: ignore[no-untyped-def]
+    """One earth-pressure coefficient for both fluxes of a staggered cell, by
+    :func:`earth_pressure` from the velocity change ``u_right - u_left`` across it (0 if a side
+    is dry, where the pressure ``~ h^2`` vanishes). The pressure flux difference in the cell,
+    ``eps K (cos zeta_R h_R^2 - cos zeta_L h_L^2) / 2`` with one ``K``, then approximates
+    ``beta h dh/dx`` of the momentum equation (paper eq. 4), and the conservative
+    ``d(beta h^2/2)/dx`` wherever ``K`` is uniform (shocks), without the spurious force
+    ``(h^2/2) dK/dx`` that a ``K`` chosen per cell exerts where it switches between neighbours
+    (docs/design.md, "Earth pressure")."""
+    dry = params[DRY]
+    stretching = 0.0
+    if left[0] >= dry and left[0] > 0.0 and right[0] >= dry and right[0] > 0.0:
+        stretching = right[1] / right[0] - left[1] / left[0]
+    k = earth_pressure(stretching, params)
+    aux_left[K] = k
+    aux_right[K] = k
+
+
+@njit(cache=True)
+def rest_coefficients_point(low, high, params):  # type: ignore[no-untyped-def]
+    """Material at rest is not yielding: its earth-pressure coefficient may be anything between
+    ``K_act`` (``low``) and ``K_pass`` (``high``) (Mohr–Coulomb: the stress lies inside the
+    yield surface), as the basal friction of a mass at rest may be anything up to the Coulomb
+    limit (docs/design.md, "Earth pressure")."""
+    low[K] = params[K_ACTIVE]
+    high[K] = params[K_PASSIVE]
 
 
 EARTH_PRESSURE = ("savage-hutter", "isotropic")
@@ -189,6 +227,8 @@ class SavageHutter(DepthAveragedModel):
     source_point = staticmethod(source_point)
     resistance_point = staticmethod(resistance_point)
     coefficients_point = staticmethod(coefficients_point)
+    interface_coefficients_point = staticmethod(interface_coefficients_point)
+    rest_coefficients_point = staticmethod(rest_coefficients_point)
 
     def __init__(self, **params: Any) -> None:
         super().__init__(**params)
@@ -223,6 +263,8 @@ class SavageHutter(DepthAveragedModel):
             "correction": True,
             "resistance": self.params.delta > 0.0,
             "dynamic_coefficients": self.k_active != self.k_passive,
+            "interface_coefficients": self.k_active != self.k_passive,
+            "rest_coefficients": self.k_active != self.k_passive,
         }
 
     def uniform_aux(self) -> bool:

@@ -153,6 +153,8 @@ class ShallowWater(DepthAveragedModel):
             "correction": True,
             "resistance": False,
             "dynamic_coefficients": False,
+            "interface_coefficients": False,
+            "rest_coefficients": False,
         }
 
     def bed(self, x: Array) -> Array:

@@ -182,7 +182,7 @@ def test_bound_tail_velocities_updates_counts_and_speeds() -> None:
     dst[:, ng] = [1e-6, 1e-6]  # thin tail moving right, u = 1 above the range
     dst[:, ng + 1] = [1e-10, 1e308]  # thinner tail whose velocity overflows
     speeds = kernels.SPEED * kernels.STRIDE + np.arange(2)
-    work = np.zeros(kernels.WORK_SIZE)
+    work = np.zeros(kernels.work_size(nt.n_staggered))
     work[speeds] = [1.0 + 1e-3, np.inf]  # |u| + sqrt(g h) before the bound
     aux = nt._aux[0.0][0]
     moving_change, bad_change = kernels.bound_tail_velocities(
@@ -231,7 +231,8 @@ def test_step_returns_the_counts_and_speed_of_its_new_state(
         src[:, GHOSTS : GHOSTS + 600] = state.q
         largest, bad, _, moving = kernels.nt_step(
             src, dst, 600, nt.n_staggered, -1, False, dt, nt.grid.dx, aux[0], aux[1], aux[2],
-            aux_dst, nt.params, nt.bc_left, nt.bc_right, np.zeros(kernels.WORK_SIZE),
+            aux_dst, nt.params, nt.bc_left, nt.bc_right,
+            np.zeros(kernels.work_size(nt.n_staggered)),
         )  # fmt: skip
         # (largest, -1), or (-1, i) at the first inadmissible new cell (a negative depth: the
         # time loop would halve dt), as the kernel's own pass over the new state finds them.

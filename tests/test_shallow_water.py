@@ -130,6 +130,7 @@ def test_a_flat_bed_compiles_no_source() -> None:
     assert bumpy.capabilities() == {
         "source": True, "balanced_source": True, "surface": True, "correction": True,
         "resistance": False, "dynamic_coefficients": False,
+        "interface_coefficients": False, "rest_coefficients": False,
     }  # fmt: skip
 
 

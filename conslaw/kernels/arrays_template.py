@@ -16,6 +16,8 @@ from conslaw.kernels.placeholders import (
     coefficients_point as _coefficients_point,
     correct_point as _correct_point,
     flux_point as _flux_point,
+    interface_coefficients_point as _interface_coefficients_point,
+    rest_coefficients_point as _rest_coefficients_point,
     jacobian_point as _jacobian_point,
     max_speed_point as _max_speed_point,
     resistance_point as _resistance_point,
@@ -29,6 +31,8 @@ HAS_BALANCED_SOURCE = False
 HAS_CORRECTION = False
 HAS_RESISTANCE = False
 HAS_DYNAMIC_COEFFICIENTS = False
+HAS_INTERFACE_COEFFICIENTS = False
+HAS_REST_COEFFICIENTS = False
 # --- end bindings ---
 
 
@@ -158,3 +162,36 @@ def coefficients_cells(q, slopes, aux, params):  # type: ignore[no-untyped-def]
             _coefficients_point(state, slope, coefficients, params)
         for k in range(NAUX):
             aux[k, i] = coefficients[k]
+
+
+@njit(cache=True)
+def interface_coefficients_cells(left, right, aux_left, aux_right, params):  # type: ignore[no-untyped-def]
+    state_left = local_vector(NV)
+    state_right = local_vector(NV)
+    coefficients_left = local_vector(NAUX)
+    coefficients_right = local_vector(NAUX)
+    for i in range(left.shape[1]):
+        load_column(left, aux_left, i, state_left, coefficients_left)
+        load_column(right, aux_right, i, state_right, coefficients_right)
+        if HAS_INTERFACE_COEFFICIENTS:
+            _interface_coefficients_point(
+                state_left, state_right, coefficients_left, coefficients_right, params
+            )
+        for k in range(NAUX):
+            aux_left[k, i] = coefficients_left[k]
+            aux_right[k, i] = coefficients_right[k]
+
+
+@njit(cache=True)
+def rest_coefficients_cells(low, high, params):  # type: ignore[no-untyped-def]
+    coefficients_low = local_vector(NAUX)
+    coefficients_high = local_vector(NAUX)
+    for i in range(low.shape[1]):
+        for k in range(NAUX):
+            coefficients_low[k] = low[k, i]
+            coefficients_high[k] = high[k, i]
+        if HAS_REST_COEFFICIENTS:
+            _rest_coefficients_point(coefficients_low, coefficients_high, params)
+        for k in range(NAUX):
+            low[k, i] = coefficients_low[k]
+            high[k, i] = coefficients_high[k]

@@ -177,6 +177,8 @@ def _model_constants(model: Model) -> dict[str, bool | int | float]:
         "HAS_CORRECTION": uses["correction"],
         "HAS_RESISTANCE": uses["resistance"],
         "HAS_DYNAMIC_COEFFICIENTS": uses["dynamic_coefficients"],
+        "HAS_INTERFACE_COEFFICIENTS": uses["interface_coefficients"],
+        "HAS_REST_COEFFICIENTS": uses["rest_coefficients"],
         "DEPTH": -1 if depth is None else int(depth),
         "MOMENTUM": -1 if model.momentum_index is None else int(model.momentum_index),
         "DRY_DEPTH": float(model.dry_depth()),
@@ -199,10 +201,16 @@ def model_array_kernels(model: Model) -> ModuleType:
     bindings["_coefficients_point"] = (
         model_class.coefficients_point or placeholders.coefficients_point
     )
+    bindings["_interface_coefficients_point"] = (
+        model_class.interface_coefficients_point or placeholders.interface_coefficients_point
+    )
+    bindings["_rest_coefficients_point"] = (
+        model_class.rest_coefficients_point or placeholders.rest_coefficients_point
+    )
     constants = _model_constants(model)
     keys = (
         "NV", "NAUX", "HAS_SOURCE", "HAS_BALANCED_SOURCE", "HAS_CORRECTION", "HAS_RESISTANCE",
-        "HAS_DYNAMIC_COEFFICIENTS",
+        "HAS_DYNAMIC_COEFFICIENTS", "HAS_INTERFACE_COEFFICIENTS", "HAS_REST_COEFFICIENTS",
     )  # fmt: skip
     return generate("arrays_template.py", bindings, {key: constants[key] for key in keys})
 
@@ -227,6 +235,10 @@ def _scheme_bindings(
             "_resistance_point": model_class.resistance_point or placeholders.resistance_point,
             "_coefficients_point": model_class.coefficients_point
             or placeholders.coefficients_point,
+            "_interface_coefficients_point": model_class.interface_coefficients_point
+            or placeholders.interface_coefficients_point,
+            "_rest_coefficients_point": model_class.rest_coefficients_point
+            or placeholders.rest_coefficients_point,
         }
     )
     return bindings

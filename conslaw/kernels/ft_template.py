@@ -32,6 +32,7 @@ from conslaw.kernels.nt_template import (
     DRY_DEPTH,
     HAS_CORRECTION,
     HAS_DYNAMIC_COEFFICIENTS,
+    HAS_INTERFACE_COEFFICIENTS,
     HAS_RESISTANCE,
     HAS_SOURCE,
     MAX_RETRIES,
@@ -56,6 +57,7 @@ from conslaw.kernels.nt_template import (
     col,
     copy_cells,
     in_thin_tail,
+    interface_fluxes,
     load_params,
     local_matrix,
     local_vector,
@@ -371,7 +373,12 @@ def ft_predict(  # type: ignore[no-untyped-def]
         elif state[DEPTH] > 0.0:
             for v in range(NV):
                 predicted[v] -= limited_curvature(data, v, i) / 24.0
-        _flux_point(predicted, coefficients, params, result)
+        if HAS_INTERFACE_COEFFICIENTS:
+            # As in the NT kernel: ft_average evaluates the flux with the new cell's coefficients.
+            for v in range(NV):
+                result[v] = predicted[v]
+        else:
+            _flux_point(predicted, coefficients, params, result)
         for v in range(NV):
             work[FT_FLUX + v, col(j)] = result[v]
             left[v] = predicted[v] - 0.25 * slope[v]
@@ -407,6 +414,8 @@ def ft_average(  # type: ignore[no-untyped-def]
     left = local_vector(NV)
     right = local_vector(NV)
     result = local_vector(NV)
+    flux_left = local_vector(NV)
+    flux_right = local_vector(NV)
     coefficients = local_vector(NAUX)
     probe = local_vector(NV)
     probe_coefficients = local_vector(NAUX)
@@ -419,10 +428,18 @@ def ft_average(  # type: ignore[no-untyped-def]
         a = col(first + j)
         b = col(first + j + 1)
         for v in range(NV):
+            flux_left[v] = work[FT_FLUX + v, col(j)]
+            flux_right[v] = work[FT_FLUX + v, col(j + 1)]
+        if HAS_INTERFACE_COEFFICIENTS:
+            for v in range(NV):
+                left[v] = flux_left[v]
+                right[v] = flux_right[v]
+            interface_fluxes(left, right, aux_centre, a, b, params, flux_left, flux_right)
+        for v in range(NV):
             state[v] = (
                 0.5 * (src[v, a] + src[v, b])
                 + 0.125 * (work[FT_SLOPE + v, col(j)] - work[FT_SLOPE + v, col(j + 1)])
-                - ratio * (work[FT_FLUX + v, col(j + 1)] - work[FT_FLUX + v, col(j)])
+                - ratio * (flux_right[v] - flux_left[v])
             )
         start = 0.5 * (src[DEPTH, a] + src[DEPTH, b]) + 0.125 * (
             work[FT_SLOPE + DEPTH, col(j)] - work[FT_SLOPE + DEPTH, col(j + 1)]
@@ -630,6 +647,29 @@ def ft_stable_dt(w, n, aux, parameters, cfl, dx, margins):  # type: ignore[no-un
 
 
 @njit(cache=True)
+def no_momentum(w, n):  # type: ignore[no-untyped-def]
+    """Whether no real cell of ``w`` holds momentum."""
+    for i in range(NG, NG + n):  # noqa: SIM110 (a loop numba compiles)
+        if w[MOMENTUM, col(i)] != 0.0:
+            return False
+    return True
+
+
+@njit(cache=True)
+def held_at_rest(w0, w1, w2, n0, n1, margins):  # type: ignore[no-untyped-def]
+    """Whether friction held everything at rest through a step pair: no momentum in any cell
+    and no margin velocity before, between and after its steps. The pair's staggered
+    re-projection would then smear the body and its margin cells although nothing moved
+    (``h_t = -m_x = 0``), so the state is kept bit for bit (as the NT kernel does)."""
+    for row in range(3):
+        for side in (1, 3):
+            velocity = margins[row, side]
+            if not np.isnan(velocity) and velocity != 0.0:
+                return False
+    return no_momentum(w0, n0) and no_momentum(w1, n1) and no_momentum(w2, n0)
+
+
+@njit(cache=True)
 def record(history, row, t, margins):  # type: ignore[no-untyped-def]
     history[row, 0] = t
     for k in range(4):
@@ -720,7 +760,8 @@ def ft_advance(  # type: ignore[no-untyped-def]
         t = t_end if last else middle + dt
         if first_inadmissible(buffers[full], n0, aux0, params) >= 0:
             return t, pairs, rows, FT_INADMISSIBLE, full, steps + 2, dt
-        now, full = full, now
+        if not (HAS_RESISTANCE and held_at_rest(buffers[now], w1, buffers[full], n0, n1, margins)):
+            now, full = full, now
         record(history, rows, middle, margins[1])
         record(history, rows + 1, t, margins[2])
         for k in range(4):

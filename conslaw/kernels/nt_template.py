@@ -41,7 +41,11 @@ How the kernel is made fast without a second copy of the physics:
     momentum, integrated at the quarter points like the sources and applied with the stopping
     rule ``m = 0 if |m*| <= dt R else m* - sgn(m*) dt R`` (never reverses the flow).
   - ``HAS_DYNAMIC_COEFFICIENTS``: the model sets per-cell coefficients from the cell's slopes
-    (the earth-pressure coefficient) before the Jacobian and the flux are evaluated.
+    (the earth-pressure coefficient) before the Jacobian of the predictor is evaluated.
+  - ``HAS_INTERFACE_COEFFICIENTS``: the two fluxes of a new cell (at the centres of its source
+    cells) are evaluated with one set of coefficients that the model chooses from the two
+    mid-step states (the earth pressure of the new cell). The FLUX rows then hold the mid-step
+    states, and :func:`average_cells` evaluates the fluxes (twice per source cell).
   - ``HAS_CORRECTION``: pointwise correction of every new cell (dry cells).
   - ``DEPTH``: row of a depth variable kept >= 0 (or -1); ``MOMENTUM``: row of depth * velocity,
     whose slope is bounded by the neighbouring velocities; ``DRY_DEPTH``: velocity 0 below it.
@@ -67,9 +71,11 @@ from conslaw.kernels.placeholders import (
     fill_left as _fill_left,
     fill_right as _fill_right,
     flux_point as _flux_point,
+    interface_coefficients_point as _interface_coefficients_point,
     jacobian_point as _jacobian_point,
     max_speed_point as _max_speed_point,
     resistance_point as _resistance_point,
+    rest_coefficients_point as _rest_coefficients_point,
     slope_point as _slope_point,
     source_point as _source_point,
 )
@@ -82,6 +88,8 @@ HAS_BALANCED_SOURCE = False
 HAS_CORRECTION = False
 HAS_RESISTANCE = False
 HAS_DYNAMIC_COEFFICIENTS = False
+HAS_INTERFACE_COEFFICIENTS = False
+HAS_REST_COEFFICIENTS = False
 DEPTH = -1
 MOMENTUM = -1
 DRY_DEPTH = 0.0
@@ -115,10 +123,35 @@ RESIST_LEFT = 4 * NV
 RESIST_RIGHT = 4 * NV + 1
 SPEED = 4 * NV + 2
 VELOCITY = 4 * NV + 3
-WORK_ROWS = 4 * NV + 4
+# With rest coefficients: the momentum row of each source cell's flux with the low end of the
+# model's rest range, and dt/dx times its change from the low to the high end.
+FLUX_LOW = 4 * NV + 4
+FLUX_SPAN = 4 * NV + 5
+WORK_ROWS = 4 * NV + (6 if HAS_REST_COEFFICIENTS else 4)
 WORK_SIZE = WORK_ROWS * STRIDE
+# With rest coefficients, the work array continues with three rows over every new cell of a
+# step (see work_size, hold_static_runs): a new cell's momentum before the stopping rule with the
+# low end of the rest range at both ends, its resistive impulse, and FLUX_SPAN at each source
+# cell (the left end of new cell g is source cell g).
+REST_MOMENTUM = 0
+REST_IMPULSE = 1
+REST_SPAN = 2
+# Stretches pending in hold_static_runs (two entries each).
+STACK_SIZE = 64
 # Lanes of the partial maxima of the wave speed (one SIMD register of doubles).
 LANES = 8
+
+
+def work_size(n_cells):  # type: ignore[no-untyped-def]
+    """Length of the work array for steps of up to ``n_cells`` new cells (plain Python)."""
+    return WORK_SIZE + (3 * (n_cells + 2) if HAS_REST_COEFFICIENTS else 0)
+
+
+@njit(cache=True)
+def rest_slot(work, row, g):  # type: ignore[no-untyped-def]
+    """Index of entry ``g`` of rest row ``row`` in the work array."""
+    stride = (work.size - WORK_SIZE) // 3
+    return np.uintp(WORK_SIZE + row * stride + g)
 
 
 @njit(cache=True)
@@ -383,13 +416,30 @@ def tail_velocity_range(src, i, dt, aux_centre, params, state, coefficients, out
     return low, high
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def rest_flux_span(predicted, coefficients, aux_centre, c, params, ratio, work, j):  # type: ignore[no-untyped-def]
+    """The FLUX_LOW and FLUX_SPAN rows of source cell ``c`` (work column ``j``) from its
+    mid-step state; ``coefficients`` is scratch."""
+    high = local_vector(NAUX)
+    flux = local_vector(NV)
+    for k in range(NAUX):
+        coefficients[k] = aux_centre[k, c]
+        high[k] = aux_centre[k, c]
+    _rest_coefficients_point(coefficients, high, params)
+    _flux_point(predicted, coefficients, params, flux)
+    low = flux[MOMENTUM]
+    _flux_point(predicted, high, params, flux)
+    work[slot(FLUX_LOW, j)] = low
+    work[slot(FLUX_SPAN, j)] = ratio * (flux[MOMENTUM] - low)
+
+
 @njit(cache=True, error_model="numpy")
 def predict_cells(  # type: ignore[no-untyped-def]
     src, first, count, dt, dx, aux_centre, aux_left_quarter, aux_right_quarter, parameters, work
 ):
     """For source cells ``first .. first + count - 1`` (work columns ``0 .. count - 1``): slope,
-    predictor (eq. 15), flux at t^{n+1/2} (eq. 12), and the sources and resistance at the two
-    quarter points (eqs. 13-14)."""
+    predictor (eq. 15), flux at t^{n+1/2} (eq. 12; the mid-step state itself with interface
+    coefficients), and the sources and resistance at the two quarter points (eqs. 13-14)."""
     state = local_vector(NV)
     slope = local_vector(NV)
     rate = local_vector(NV)
@@ -425,9 +475,16 @@ def predict_cells(  # type: ignore[no-untyped-def]
             state, slope, coefficients, params, half_dt, inverse_dx, matrix, rate, result,
             predicted,
         )  # fmt: skip
-        _flux_point(predicted, coefficients, params, result)
-        for v in range(NV):
-            work[slot(FLUX + v, j)] = result[v]
+        if HAS_REST_COEFFICIENTS:
+            rest_flux_span(predicted, coefficients, aux_centre, c, params, dt * inverse_dx, work, j)
+        if HAS_INTERFACE_COEFFICIENTS:
+            # The flux depends on coefficients of the new cell: average_cells evaluates it.
+            for v in range(NV):
+                work[slot(FLUX + v, j)] = predicted[v]
+        else:
+            _flux_point(predicted, coefficients, params, result)
+            for v in range(NV):
+                work[slot(FLUX + v, j)] = result[v]
         if HAS_BALANCED_SOURCE:
             for v in range(NV):
                 work[slot(SOURCE_LEFT + v, j)] = predicted[v]
@@ -541,6 +598,25 @@ def bound_tail_velocities(  # type: ignore[no-untyped-def]
     return moving_change, bad_change
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def interface_fluxes(  # type: ignore[no-untyped-def]
+    state_left, state_right, aux_centre, left, right, params, flux_left, flux_right
+):
+    """The fluxes at the two ends of a new cell, at the centres of its source cells ``left``,
+    ``right`` with the mid-step states ``state_left``, ``state_right``, both evaluated with the
+    coefficients that the model's ``interface_coefficients_point`` chooses for the cell."""
+    coefficients_left = local_vector(NAUX)
+    coefficients_right = local_vector(NAUX)
+    for k in range(NAUX):
+        coefficients_left[k] = aux_centre[k, left]
+        coefficients_right[k] = aux_centre[k, right]
+    _interface_coefficients_point(
+        state_left, state_right, coefficients_left, coefficients_right, params
+    )
+    _flux_point(state_left, coefficients_left, params, flux_left)
+    _flux_point(state_right, coefficients_right, params, flux_right)
+
+
 @njit(cache=True, error_model="numpy")
 def average_cells(  # type: ignore[no-untyped-def]
     src, dst, first, dst_first, count, dt, dx, aux_centre, aux_dst, parameters, work
@@ -553,6 +629,8 @@ def average_cells(  # type: ignore[no-untyped-def]
     predicted = local_vector(NV)
     neighbour = local_vector(NV)
     result = local_vector(NV)
+    flux_left = local_vector(NV)
+    flux_right = local_vector(NV)
     coefficients = local_vector(NAUX)
     other = local_vector(NAUX)
     params = local_vector(NPARAMS)
@@ -566,6 +644,17 @@ def average_cells(  # type: ignore[no-untyped-def]
     for j in range(count):
         left = col(first + j)
         right = col(first + j + 1)
+        if HAS_INTERFACE_COEFFICIENTS:
+            for v in range(NV):
+                predicted[v] = work[slot(FLUX + v, j)]
+                neighbour[v] = work[slot(FLUX + v, j + 1)]
+            interface_fluxes(
+                predicted, neighbour, aux_centre, left, right, params, flux_left, flux_right
+            )
+        else:
+            for v in range(NV):
+                flux_left[v] = work[slot(FLUX + v, j)]
+                flux_right[v] = work[slot(FLUX + v, j + 1)]
         if HAS_BALANCED_SOURCE:
             for v in range(NV):
                 predicted[v] = work[slot(SOURCE_LEFT + v, j)]
@@ -578,7 +667,7 @@ def average_cells(  # type: ignore[no-untyped-def]
             value = (
                 0.5 * (src[v, left] + src[v, right])
                 + 0.125 * (work[slot(SLOPE + v, j)] - work[slot(SLOPE + v, j + 1)])
-                - ratio * (work[slot(FLUX + v, j + 1)] - work[slot(FLUX + v, j)])
+                - ratio * (flux_right[v] - flux_left[v])
             )
             if HAS_BALANCED_SOURCE:
                 value += dt * result[v]
@@ -587,9 +676,21 @@ def average_cells(  # type: ignore[no-untyped-def]
                     work[slot(SOURCE_RIGHT + v, j)] + work[slot(SOURCE_LEFT + v, j + 1)]
                 )
             state[v] = value
+        if HAS_REST_COEFFICIENTS:
+            # The momentum with the low end of the rest range at both ends instead.
+            g = dst_first - NG + j
+            low = (work[slot(FLUX_LOW, j + 1)] - work[slot(FLUX_LOW, j)]) - (
+                flux_right[MOMENTUM] - flux_left[MOMENTUM]
+            )
+            work[rest_slot(work, REST_MOMENTUM, g)] = state[MOMENTUM] - ratio * low
+            work[rest_slot(work, REST_IMPULSE, g)] = 0.0
+            work[rest_slot(work, REST_SPAN, g)] = work[slot(FLUX_SPAN, j)]
+            work[rest_slot(work, REST_SPAN, g + 1)] = work[slot(FLUX_SPAN, j + 1)]
         if HAS_RESISTANCE:
             # Eqs. (13)-(14) for the resistance, applied with the stopping rule (reference §1).
             impulse = half_dt * (work[slot(RESIST_RIGHT, j)] + work[slot(RESIST_LEFT, j + 1)])
+            if HAS_REST_COEFFICIENTS:
+                work[rest_slot(work, REST_IMPULSE, dst_first - NG + j)] = impulse
             state[MOMENTUM] = resist(state[MOMENTUM], impulse)
         new = col(dst_first + j)
         for k in range(NAUX):
@@ -617,6 +718,116 @@ def average_cells(  # type: ignore[no-untyped-def]
         moving += moving_change
         bad += bad_change
     return negative, moving, bad
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def holdable(work, g, n_dst):  # type: ignore[no-untyped-def]
+    """Whether new cell ``g`` alone could be brought to rest: its momentum with the low end of
+    the rest range, changed by at most the spans at its two ends, within its impulse."""
+    momentum = work[rest_slot(work, REST_MOMENTUM, g)]
+    impulse = work[rest_slot(work, REST_IMPULSE, g)]
+    reach_up = work[rest_slot(work, REST_SPAN, g)] if g > 0 else 0.0
+    reach_down = work[rest_slot(work, REST_SPAN, g + 1)] if g + 1 < n_dst else 0.0
+    return momentum - impulse <= reach_up and momentum + impulse >= -reach_down
+
+
+@njit(cache=True, error_model="numpy")
+def longest_held_from(work, start, stop):  # type: ignore[no-untyped-def]
+    """The largest ``end`` in ``start .. stop - 1`` such that some choice of the flux changes
+    ``d_c`` in ``[0, REST_SPAN_c]`` at the interior centres of new cells ``start .. end``
+    (``d = 0`` at both ends of the run) brings every one of them within its impulse of rest;
+    ``start - 1`` if there is none. A chain of interval constraints: the set of ``d`` reachable
+    at each centre is an interval, swept once."""
+    low = 0.0
+    high = 0.0
+    end = start - 1
+    for k in range(start, stop):
+        momentum = work[rest_slot(work, REST_MOMENTUM, k)]
+        impulse = work[rest_slot(work, REST_IMPULSE, k)]
+        # d_{k+1} = d_k + x with x in [momentum - impulse, momentum + impulse].
+        low, high = low + momentum - impulse, high + momentum + impulse
+        if low <= 0.0 <= high:
+            end = k
+        if k + 1 < stop:
+            low = max(low, 0.0)
+            high = min(high, work[rest_slot(work, REST_SPAN, k + 1)])
+            if low > high:
+                break
+    return end
+
+
+@njit(cache=True)
+def stop_cells(dst, start, stop):  # type: ignore[no-untyped-def]
+    """Set the momentum of new cells ``start .. stop - 1`` to 0; returns how many moved."""
+    stopped = 0
+    for g in range(start, stop):
+        c = col(NG + g)
+        if dst[MOMENTUM, c] != 0.0:
+            dst[MOMENTUM, c] = 0.0
+            stopped += 1
+    return stopped
+
+
+@njit(cache=True, error_model="numpy")
+def hold_static_runs(dst, n_dst, work):  # type: ignore[no-untyped-def]
+    """Stop the runs of new cells that friction and a statically admissible earth pressure
+    bring to rest within the step; returns how many of them this stopped (their momentum is
+    set to 0). The implicit treatment of the set-valued laws at rest: as the stopping rule
+    lets Coulomb friction take any value up to its limit that stops a cell within the step,
+    so material that ends the step at rest is not yielding, and its coefficients (the
+    Savage–Hutter earth pressure) may lie anywhere in the model's rest range at every
+    source-cell centre, as long as each centre's flux stays one value shared by its two new
+    cells (a continuous pressure, which exerts no net force on the run).
+
+    ``REST_MOMENTUM`` holds each new cell's momentum before the stopping rule with the low end
+    of the range at both its ends; raising the flux at interior centre ``c`` of a run by ``d_c``
+    in ``[0, REST_SPAN_c]`` changes new cell ``g``'s momentum by ``d_g - d_{g+1}``, and the cell
+    is held iff the result is within its resistive impulse ``REST_IMPULSE``. The ends of a run
+    share their centre with a cell that keeps moving (or a boundary): ``d = 0`` there.
+
+    Within each maximal stretch of cells that could each be held alone (:func:`holdable`), the
+    longest run that can be held as a whole (:func:`longest_held_from` from every start) is
+    held, and the stretches on either side of it are treated the same way; a tie between
+    overlapping runs holds neither. The result is the same read from either end (a mirror
+    image is held as the mirror image) (docs/design.md, "Earth pressure").
+    """
+    stopped = 0
+    g = 0
+    # Stretches still to treat, [start, stop) pairs (as floats: a stack array; each split
+    # replaces one stretch by two, so the depth stays small; a stretch that does not fit is
+    # left unheld).
+    stack = local_vector(STACK_SIZE)
+    while g < n_dst:
+        if not holdable(work, g, n_dst):
+            g += 1
+            continue
+        stop = g + 1
+        while stop < n_dst and holdable(work, stop, n_dst):
+            stop += 1
+        stack[0], stack[1] = g, stop
+        depth = 2
+        while depth > 0:
+            depth -= 2
+            start, end = int(stack[depth]), int(stack[depth + 1])
+            best_start, best_stop, tied = start, start, False
+            for first in range(start, end):
+                last = longest_held_from(work, first, end)
+                length = last + 1 - first
+                if length > best_stop - best_start:
+                    best_start, best_stop, tied = first, last + 1, False
+                elif length > 0 and length == best_stop - best_start and first < best_stop:
+                    tied = True  # an equally long run overlapping the best one
+                if last + 1 >= end:
+                    break  # a later start can only give a shorter run
+            if best_stop == best_start or tied:
+                continue
+            stopped += stop_cells(dst, best_start, best_stop)
+            if depth + 4 <= STACK_SIZE:
+                stack[depth], stack[depth + 1] = start, best_start
+                stack[depth + 2], stack[depth + 3] = best_stop, end
+                depth += 4
+        g = stop
+    return stopped
 
 
 @njit(cache=True)
@@ -689,12 +900,167 @@ def nt_step(  # type: ignore[no-untyped-def]
             block_largest = block_speed(work, count)
             if block_largest > largest:
                 largest = block_largest
+    if HAS_REST_COEFFICIENTS:
+        moving -= hold_static_runs(dst, n_dst, work)
     if bad > 0:
         # Rare path: find the first bad cell and tell an inadmissible state from an overflowing
         # wave speed, as max_speed does.
         code, cell = max_speed(dst, n_dst, aux_dst, params)
         return code, cell, negative, moving
     return largest, -1, negative, moving
+
+
+@njit(cache=True, error_model="numpy")
+def depth_share(w, i, side, dt, dx, aux, parameters):  # type: ignore[no-untyped-def]
+    """The part of the depth of padded cell i that a step hands to the new cell on its ``side``
+    (+1: right, -1: left), as :func:`average_cells` forms it (eq. 10):
+    ``h/2 + side (h'/8 + dt/dx f_h(w^{n+1/2}))``, with the slope, predictor and flux of
+    :func:`predict_cells`."""
+    state = local_vector(NV)
+    slope = local_vector(NV)
+    rate = local_vector(NV)
+    result = local_vector(NV)
+    predicted = local_vector(NV)
+    coefficients = local_vector(NAUX)
+    matrix = local_matrix(NV)
+    params = local_vector(NPARAMS)
+    load_params(parameters, params)
+    c = col(i)
+    for v in range(NV):
+        state[v] = w[v, c]
+        slope[v] = cell_slope(w, v, i, dx, aux)
+    if state[DEPTH] > 0.0:
+        bound_momentum_slope(
+            state[DEPTH], state[MOMENTUM], slope, cell_velocity(w, i - 1), cell_velocity(w, i),
+            cell_velocity(w, i + 1),
+        )  # fmt: skip
+    for k in range(NAUX):
+        coefficients[k] = aux[k, c]
+    predict_point(
+        state, slope, coefficients, params, 0.5 * dt, 1.0 / dx, matrix, rate, result, predicted
+    )
+    _flux_point(predicted, coefficients, params, result)
+    return 0.5 * state[DEPTH] + side * (0.125 * slope[DEPTH] + dt / dx * result[DEPTH])
+
+
+@njit(cache=True)
+def at_rest(w0, w2, j):  # type: ignore[no-untyped-def]
+    """Whether primary cell ``j`` was at rest through a step pair: dry at its start, or holding
+    no momentum before (``w0``) and after (``w2``) it (friction held it)."""
+    c = col(NG + j)
+    depth = w0[DEPTH, c]
+    dry = not (depth >= DRY_DEPTH and depth > 0.0)
+    return dry or (w0[MOMENTUM, c] == 0.0 and w2[MOMENTUM, c] == 0.0)
+
+
+@njit(cache=True, error_model="numpy")
+def face_transfer(w0, w1, face, dt, dx, aux0, aux1, params):  # type: ignore[no-untyped-def]
+    """The depth a step pair moved rightwards across primary face ``face`` (between primary
+    cells ``face - 1`` and ``face``; ghost cells at the boundaries): what the first step handed
+    from cell ``face - 1`` to the staggered cell centred on the face less what the second step
+    handed back from that staggered cell to it, which equals what cell ``face`` got back from
+    that staggered cell less what it handed to it. Both, averaged: the same value to the last
+    bit, with its sign flipped, for the mirror image of the data."""
+    from_left = depth_share(w0, NG + face - 1, 1.0, dt, dx, aux0, params) - depth_share(
+        w1, NG + face, -1.0, dt, dx, aux1, params
+    )
+    to_right = depth_share(w1, NG + face, 1.0, dt, dx, aux1, params) - depth_share(
+        w0, NG + face, -1.0, dt, dx, aux0, params
+    )
+    return 0.5 * (from_left - (-to_right))
+
+
+@njit(cache=True, error_model="numpy")
+def face_correction(w0, w1, w2, face, rest_left, dt, dx, aux0, aux1, params):  # type: ignore[no-untyped-def]
+    """``(moved, returned)`` at an interior face with exactly one side at rest (the left one if
+    ``rest_left``): the depth the pair moved across it rightwards, and the part of it that is
+    taken back. What may cross is the donor-cell flux of the moving side, ``dt/dx`` times its
+    momentum before plus after the pair, and only if that points towards the face: nothing
+    leaves material at rest (the staggered averaging would take half of it), and a moving cell
+    spreads nothing against its motion into a cell at rest or a dry one."""
+    moved = face_transfer(w0, w1, face, dt, dx, aux0, aux1, params)
+    moving = col(NG + face) if rest_left else col(NG + face - 1)
+    momentum = w0[MOMENTUM, moving] + w2[MOMENTUM, moving]
+    allowed = 0.0
+    if (momentum < 0.0) if rest_left else (momentum > 0.0):
+        allowed = dt / dx * momentum
+    return moved, moved - allowed
+
+
+@njit(cache=True, error_model="numpy")
+def hold_resting_cells(w0, w1, w2, n0, dt, dx, aux0, aux1, params):  # type: ignore[no-untyped-def]
+    """Give back, in ``w2`` (the state after a step pair from ``w0`` through ``w1``), every depth
+    that the pair moved out of a cell at rest (:func:`at_rest`): material held by friction
+    stays where it is (``h_t = -m_x = 0`` there). Without this, the staggered averaging moves
+    depth out of cells at rest as numerical diffusion: a deposit would keep smearing while
+    anything else moves, and its faces would feed margins that never stop. Depth may still
+    flow into a cell at rest.
+
+    A cell at rest gets its old depth less what crosses its faces (nothing where both sides
+    are at rest: such a cell keeps its state bit for bit); a moving cell gets the pair's result
+    with what it received from a cell at rest taken back. Conservative: what one cell of a face
+    gets back, the other gives. Nothing changes if a depth would become negative. A changed
+    cell gets the model's correction (a cell left below the dry depth holds no momentum).
+    Returns the largest wave speed of the changed cells (0 if none) and how many of them
+    stopped moving.
+    """
+    state = local_vector(NV)
+    coefficients = local_vector(NAUX)
+    local = local_vector(NPARAMS)
+    load_params(params, local)
+    largest = 0.0
+    stopped = 0
+    for apply in range(2):
+        # The right face of the previous cell is the left face of this one.
+        rest_right = at_rest(w0, w2, 0)
+        moved_right, returned_right = 0.0, 0.0
+        if rest_right:
+            moved_right = face_transfer(w0, w1, 0, dt, dx, aux0, aux1, local)
+        for j in range(n0):
+            rest = rest_right
+            moved_left, returned_left = moved_right, returned_right
+            moved_right, returned_right = 0.0, 0.0
+            if j + 1 < n0:
+                rest_right = at_rest(w0, w2, j + 1)
+                if rest != rest_right:
+                    moved_right, returned_right = face_correction(
+                        w0, w1, w2, j + 1, rest, dt, dx, aux0, aux1, local
+                    )
+            elif rest:
+                moved_right = face_transfer(w0, w1, n0, dt, dx, aux0, aux1, local)
+            c = col(NG + j)
+            if rest:
+                # What still crosses each face (nothing between two cells at rest). Sums
+                # grouped so that the mirror image of the data gives the same bits.
+                depth = w0[DEPTH, c] + (
+                    (moved_left - returned_left) - (moved_right - returned_right)
+                )
+            elif returned_left == 0.0 and returned_right == 0.0:
+                continue  # no face at rest: the pair's own result
+            else:
+                depth = w2[DEPTH, c] + (returned_right - returned_left)
+            if depth < 0.0:
+                return 0.0, 0
+            if apply == 0 or depth == w2[DEPTH, c]:
+                continue
+            for v in range(NV):
+                state[v] = w2[v, c]
+            if rest and state[MOMENTUM] != 0.0:
+                # A cell dry at the start keeps the velocity of what it may still receive.
+                state[MOMENTUM] *= depth / state[DEPTH]
+            state[DEPTH] = depth
+            for k in range(NAUX):
+                coefficients[k] = aux0[k, c]
+            if HAS_CORRECTION:
+                _correct_point(state, coefficients, local, dt)
+            if state[MOMENTUM] == 0.0 and w2[MOMENTUM, c] != 0.0:
+                stopped += 1
+            for v in range(NV):
+                w2[v, c] = state[v]
+            speed = _max_speed_point(state, coefficients, local)
+            if speed > largest:
+                largest = speed
+    return largest, stopped
 
 
 @njit(cache=True)
@@ -803,7 +1169,15 @@ def advance(  # type: ignore[no-untyped-def]
             if dt < dt_floor:
                 return finish(buffers, now, n0, t, pairs, STATUS_DT_FLOOR, 0, -1, dt)
             return finish(buffers, now, n0, t, pairs, STATUS_CFL_UNREACHABLE, 1, -1, dt)
-        if not (resting and moving1 == 0 and moving2 == 0):
+        static = resting and moving1 == 0 and moving2 == 0
+        if HAS_RESISTANCE and DEPTH >= 0 and MOMENTUM >= 0 and not static and moving < n0:
+            # Cells that friction held at rest give no depth away.
+            held_speed, stopped = hold_resting_cells(
+                buffers[now], w1, buffers[full], n0, dt, dx, aux0, aux1, params
+            )
+            speed2 = max(speed2, held_speed)
+            moving2 -= stopped
+        if not static:
             # Otherwise friction held every cell at rest through both half steps: nothing moved,
             # so the depth cannot change either (h_t = -m_x = 0). The state is kept bit for bit
             # instead of the staggered re-projection, which would smear a pile at rest.

@@ -15,4 +15,5 @@ def unbound(*args):  # type: ignore[no-untyped-def]
 
 flux_point = jacobian_point = max_speed_point = source_point = admissible_point = unbound
 balanced_source_point = correct_point = resistance_point = coefficients_point = unbound
+interface_coefficients_point = rest_coefficients_point = unbound
 slope_point = fill_left = fill_right = unbound

@@ -746,6 +746,11 @@ class FrontTrackingNT(NessyahuTadmor):
             if last:
                 end = replace(end, t=t_end)
             self.check_admissible(end, steps + 2)
+            if self.uses["resistance"] and all(
+                _held(s, self.model.momentum_index) for s in (state, middle, end)
+            ):
+                # Friction held everything: the kernel's held_at_rest keeps the state.
+                end = replace(state, t=end.t)
             assert middle.margins is not None and end.margins is not None
             history.append(middle.margins.row(middle.t))
             history.append(end.margins.row(end.t))
@@ -754,6 +759,13 @@ class FrontTrackingNT(NessyahuTadmor):
             if progress is not None:
                 progress(state.t, steps)
         return AdvanceResult(state, steps, np.array(history, dtype=np.float64))
+
+
+def _held(state: State, momentum: int | None) -> bool:
+    """No momentum in any cell and no moving margin (the kernel's ``held_at_rest``)."""
+    assert momentum is not None and state.margins is not None
+    margins = [m for m in (state.margins.rear, state.margins.front) if m is not None]
+    return not np.any(state.q[momentum]) and all(m.velocity == 0.0 for m in margins)
 
 
 def _margins_of_row(row: Array) -> Margins:

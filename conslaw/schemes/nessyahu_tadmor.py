@@ -75,6 +75,61 @@ class SubcellHooks:
         """Replace the quarter-point states of the source integration (eqs. 13-14) in place."""
 
 
+def static_runs_held(momentum: Array, impulse: Array, span: Array) -> Array:
+    """Which new cells friction and a statically admissible pressure bring to rest: the
+    kernel's ``hold_static_runs`` (whose docstring gives the rule), in plain Python loops (the
+    reference, not the kernel). ``momentum`` is every new cell's momentum before the stopping
+    rule with the low end of the rest range, ``impulse`` its resistive impulse, ``span`` the
+    largest flux change at every source cell (new cell ``g`` lies between source cells ``g``
+    and ``g + 1``)."""
+    n = momentum.size
+    reach_up = np.where(np.arange(n) > 0, span[:n], 0.0)
+    reach_down = np.where(np.arange(n) + 1 < n, span[1 : n + 1], 0.0)
+    holdable = (momentum - impulse <= reach_up) & (momentum + impulse >= -reach_down)
+
+    def longest_from(start: int, stop: int) -> int:
+        low = high = 0.0
+        end = start - 1
+        for k in range(start, stop):
+            low, high = low + momentum[k] - impulse[k], high + momentum[k] + impulse[k]
+            if low <= 0.0 <= high:
+                end = k
+            if k + 1 < stop:
+                low, high = max(low, 0.0), min(high, span[k + 1])
+                if low > high:
+                    break
+        return end
+
+    held = np.zeros(n, dtype=bool)
+    g = 0
+    while g < n:
+        if not holdable[g]:
+            g += 1
+            continue
+        stop = g + 1
+        while stop < n and holdable[stop]:
+            stop += 1
+        pending = [(g, stop)]
+        while pending:
+            start, end = pending.pop()
+            best_start, best_stop, tied = start, start, False
+            for first in range(start, end):
+                last = longest_from(first, end)
+                length = last + 1 - first
+                if length > best_stop - best_start:
+                    best_start, best_stop, tied = first, last + 1, False
+                elif length > 0 and length == best_stop - best_start and first < best_stop:
+                    tied = True
+                if last + 1 >= end:
+                    break
+            if best_stop == best_start or tied:
+                continue
+            held[best_start:best_stop] = True
+            pending += [(start, best_start), (best_stop, end)]
+        g = stop
+    return held
+
+
 def validate_cfl(cfl: Any) -> float:
     """The CFL number as a float in (0, 1/2) (paper eq. 17), or a ConfigError."""
     if isinstance(cfl, bool) or not isinstance(cfl, int | float) or not np.isfinite(cfl):
@@ -216,7 +271,7 @@ class NessyahuTadmor(Scheme):
                 self.left.condition.fill_left,
                 self.right.condition.fill_right,
             )
-            self._work = np.zeros(self._kernels.WORK_SIZE)
+            self._work = np.zeros(self._kernels.work_size(self.n_staggered))
         return self._kernels
 
     def _family(self, state: State) -> tuple[int, bool]:
@@ -348,22 +403,26 @@ class NessyahuTadmor(Scheme):
         hooks.adjust_slopes(values, slopes, x_cells)
         model = self.model
         coefficients = model.dynamic_coefficients(values, slopes, centre[:, cells])
-        jacobian = model.flux_jacobian(values, coefficients)
-        rate = -np.einsum("rcm,cm->rm", jacobian, slopes) * (1.0 / self.grid.dx)
-        rate += model.source(values, coefficients)
-        predicted = values + 0.5 * dt * rate
         momentum = model.momentum_index
+        predicted = self._predictor(values, slopes, coefficients, dt)
         if self.uses["resistance"]:
             assert momentum is not None
             predicted[momentum] = _resist(
                 predicted[momentum], 0.5 * dt * model.resistance(values, coefficients)
             )
         hooks.adjust_predicted(values, predicted, x_cells, dt)
-        flux = model.flux(predicted, coefficients)
+        rest_difference, span = None, None
+        if self.uses["interface_coefficients"]:
+            difference, rest_difference, span = self._interface_flux_difference(
+                predicted, centre[:, cells], dt
+            )
+        else:
+            flux = model.flux(predicted, coefficients)
+            difference = flux[:, 1:] - flux[:, :-1]
         new = (
             0.5 * (values[:, :-1] + values[:, 1:])
             + 0.125 * (slopes[:, :-1] - slopes[:, 1:])
-            - dt / self.grid.dx * (flux[:, 1:] - flux[:, :-1])
+            - dt / self.grid.dx * difference
         )
         quarter_left, quarter_right = predicted - 0.25 * slopes, predicted + 0.25 * slopes
         hooks.adjust_quarters(values, slopes, quarter_left, quarter_right)
@@ -374,6 +433,8 @@ class NessyahuTadmor(Scheme):
             source_right = model.source(quarter_right, right_quarter[:, cells])
             source_left = model.source(quarter_left, left_quarter[:, cells])
             new += 0.5 * dt * (source_right[:, :-1] + source_left[:, 1:])
+        before_resistance = None if momentum is None else new[momentum].copy()
+        impulse = np.zeros(n_dst)
         if self.uses["resistance"]:
             assert momentum is not None
             resistance_right = model.resistance(quarter_right, right_quarter[:, cells])
@@ -385,7 +446,43 @@ class NessyahuTadmor(Scheme):
             new = model.correct(new, aux_dst, dt)
         if model.depth_index is not None and momentum is not None:
             self._bound_velocities(w, centre, first, dt, new)
+        if rest_difference is not None and span is not None:
+            assert momentum is not None and before_resistance is not None
+            ratio = dt / self.grid.dx
+            low = before_resistance - ratio * (rest_difference - difference[momentum])
+            held = static_runs_held(low, impulse, span)
+            new[momentum] = np.where(held, 0.0, new[momentum])
         return new
+
+    def _predictor(self, values: Array, slopes: Array, coefficients: Array, dt: float) -> Array:
+        """``w + dt/2 (-A(w) w'/dx + s(w))`` (eq. 15) with the given coefficients."""
+        model = self.model
+        jacobian = model.flux_jacobian(values, coefficients)
+        rate = -np.einsum("rcm,cm->rm", jacobian, slopes) * (1.0 / self.grid.dx)
+        rate += model.source(values, coefficients)
+        return values + 0.5 * dt * rate
+
+    def _interface_flux_difference(
+        self, predicted: Array, static: Array, dt: float
+    ) -> tuple[Array, Array | None, Array | None]:
+        """``f(w_R) - f(w_L)`` of every new cell with the coefficients the model chooses for it
+        (the kernel's interface_fluxes). With rest coefficients also the momentum row of that
+        difference with the low end of the rest range (the kernel's FLUX_LOW), and per source
+        cell ``dt/dx`` times its flux's change from the low to the high end (FLUX_SPAN)."""
+        model = self.model
+        left, right = predicted[:, :-1], predicted[:, 1:]
+        aux_left, aux_right = model.interface_coefficients(
+            left, right, static[:, :-1], static[:, 1:]
+        )
+        difference = model.flux(right, aux_right) - model.flux(left, aux_left)
+        if not self.uses["rest_coefficients"]:
+            return difference, None, None
+        momentum = model.momentum_index
+        assert momentum is not None
+        low, high = model.rest_coefficients(static)
+        flux_low = model.flux(predicted, low)[momentum]
+        span = dt / self.grid.dx * (model.flux(predicted, high)[momentum] - flux_low)
+        return difference, flux_low[1:] - flux_low[:-1], span
 
     def _bound_velocities(self, w: Array, centre: Array, first: int, dt: float, new: Array) -> None:
         """numpy version of the kernel's velocity bound (``velocity_range``): the velocity of every
