@@ -8,8 +8,8 @@ of any step (either cell family) fell below the dry tolerance, which the test ch
 instead of assuming it.
 
 Why not assume it: wet data do not stay wet. The data below (h >= 0.1, |u| < 0.9) can form a
-vacuum in the exact solution itself (for Savage–Hutter with K_act = 1/3, ``beta = 1/6``, two cells
-separating faster than ``2 (c_L + c_R) ~ 0.5`` open a dry gap), and WENO slopes undershoot in an
+vacuum in the exact solution itself (for Savage–Hutter with K = 1, ``beta = 1/2``, two cells of
+depth 0.1 separating faster than ``2 (c_L + c_R) ~ 0.9`` open a dry gap), and WENO slopes undershoot in an
 unresolved valley: h = 0.5 | 0.109 | 0.5 between cells moving apart at 0.5 went to 0.044 after one
 step pair with ``weno5`` at 32 cells (t = 0.02), where the converged solution is 0.105 (the same
 data refined 64-fold) and ``weno5`` on a 4-fold finer grid gives 0.113. The quadratics through a
@@ -33,8 +33,11 @@ from conslaw.state import State
 
 MODELS = {
     "shallow-water": {"g": 1.0},
-    # zeta = 0 and delta = 0: no driving force and no friction, so momentum is conserved too.
-    "savage-hutter": {"zeta": 0.0, "phi": 30.0, "delta": 0.0, "epsilon": 0.5},
+    # zeta = 0 and delta = 0: no driving force and no friction; phi = 0 too, so that
+    # K_act = K_pass (= 1): momentum is conserved too. (With phi > delta momentum changes where K
+    # switches, as in the momentum equation of the theory, eq. 4; docs/design.md, "Earth
+    # pressure".)
+    "savage-hutter": {"zeta": 0.0, "phi": 0.0, "delta": 0.0, "epsilon": 0.5},
 }
 _schemes: dict[tuple[str, str], NessyahuTadmor] = {}
 

@@ -475,8 +475,6 @@ def predict_cells(  # type: ignore[no-untyped-def]
             state, slope, coefficients, params, half_dt, inverse_dx, matrix, rate, result,
             predicted,
         )  # fmt: skip
-        if HAS_REST_COEFFICIENTS:
-            rest_flux_span(predicted, coefficients, aux_centre, c, params, dt * inverse_dx, work, j)
         if HAS_INTERFACE_COEFFICIENTS:
             # The flux depends on coefficients of the new cell: average_cells evaluates it.
             for v in range(NV):
@@ -485,6 +483,8 @@ def predict_cells(  # type: ignore[no-untyped-def]
             _flux_point(predicted, coefficients, params, result)
             for v in range(NV):
                 work[slot(FLUX + v, j)] = result[v]
+        if HAS_REST_COEFFICIENTS:
+            rest_flux_span(predicted, coefficients, aux_centre, c, params, dt * inverse_dx, work, j)
         if HAS_BALANCED_SOURCE:
             for v in range(NV):
                 work[slot(SOURCE_LEFT + v, j)] = predicted[v]
@@ -974,16 +974,24 @@ def face_transfer(w0, w1, face, dt, dx, aux0, aux1, params):  # type: ignore[no-
 def face_correction(w0, w1, w2, face, rest_left, dt, dx, aux0, aux1, params):  # type: ignore[no-untyped-def]
     """``(moved, returned)`` at an interior face with exactly one side at rest (the left one if
     ``rest_left``): the depth the pair moved across it rightwards, and the part of it that is
-    taken back. What may cross is the donor-cell flux of the moving side, ``dt/dx`` times its
-    momentum before plus after the pair, and only if that points towards the face: nothing
-    leaves material at rest (the staggered averaging would take half of it), and a moving cell
-    spreads nothing against its motion into a cell at rest or a dry one."""
+    taken back. Depth crosses only if the material of the moving side moves towards the face
+    (the sign of its momentum before plus after the pair): what the pair moved from it into
+    the cell at rest, or, where the staggered averaging moved depth the other way (out of the
+    material at rest), the donor-cell flux of the moving side, ``dt/dx`` times that momentum.
+    So nothing leaves material at rest, and a moving cell spreads nothing against its motion
+    into a cell at rest or a dry one."""
     moved = face_transfer(w0, w1, face, dt, dx, aux0, aux1, params)
     moving = col(NG + face) if rest_left else col(NG + face - 1)
     momentum = w0[MOMENTUM, moving] + w2[MOMENTUM, moving]
+    towards = momentum < 0.0 if rest_left else momentum > 0.0
     allowed = 0.0
-    if (momentum < 0.0) if rest_left else (momentum > 0.0):
-        allowed = dt / dx * momentum
+    if towards:
+        # Rightwards is positive. Into a dry cell, what the pair moved in the direction of the
+        # motion; into material at rest, at least the donor-cell flux.
+        resting = col(NG + face - 1) if rest_left else col(NG + face)
+        depth = w0[DEPTH, resting]
+        donor = dt / dx * momentum if depth >= DRY_DEPTH and depth > 0.0 else 0.0
+        allowed = min(moved, donor) if rest_left else max(moved, donor)
     return moved, moved - allowed
 
 
