@@ -29,7 +29,8 @@ from conslaw.grid import Grid
 from conslaw.initial import InitialCondition
 from conslaw_models.chute import CHUTE_KINDS, Chute, PlaneChute, make_chute
 from conslaw_models.depth_averaged import DRY, DepthAveragedModel, velocity
-from conslaw_models.savage_hutter_exact import SimilaritySolution
+from conslaw_models.savage_hutter_exact import InclinedDamBreak, SimilaritySolution
+from conslaw_models.shallow_water_exact import DamBreak
 
 Array = NDArray[np.float64]
 
@@ -311,13 +312,16 @@ class SavageHutter(DepthAveragedModel):
     def exact_solution(
         self, initial: InitialCondition, grid: Grid, context: Mapping[str, Any]
     ) -> ExactSolution | None:
-        """The parabolic similarity solution for a cap released at rest on a plane chute.
+        """The parabolic similarity solution for a cap released at rest on a plane chute, and
+        the dam break down a plane onto a dry bed (:meth:`dam_break_solution`).
 
-        Unavailable when its parameters are invalid (the rear margin would move upslope), when
-        the thin layer is thicker than 1e-3 of the cap height (the comparison is then not with
-        the same problem; at 1e-4, as in the paper, it floors the error at about 1e-4), or when a
-        margin leaves the domain before ``t_end``.
+        The similarity solution is unavailable when its parameters are invalid (the rear margin
+        would move upslope), when the thin layer is thicker than 1e-3 of the cap height (the
+        comparison is then not with the same problem; at 1e-4, as in the paper, it floors the
+        error at about 1e-4), or when a margin leaves the domain before ``t_end``.
         """
+        if initial.kind == "piecewise-constant":
+            return self.dam_break_solution(initial, grid, context)
         if initial.kind != "parabolic-cap":
             return None
         if not isinstance(self.chute, PlaneChute):
@@ -339,6 +343,38 @@ class SavageHutter(DepthAveragedModel):
         rear, front = solution.margins(float(context["t_end"]))
         if rear < grid.x_min or front > grid.x_max:
             raise Unavailable(f"a margin leaves the domain before t={context['t_end']:g}")
+        return solution
+
+    def dam_break_solution(
+        self, initial: InitialCondition, grid: Grid, context: Mapping[str, Any]
+    ) -> ExactSolution | None:
+        """:class:`~conslaw_models.savage_hutter_exact.InclinedDamBreak` for one jump between a
+        reservoir at rest (left, upslope) and a dry bed, on a plane chute on which the material
+        slides (``tan delta <= tan zeta``), with outflow boundaries that no wave reaches by
+        ``t_end``; None for other piecewise-constant data that are not a dam break."""
+        if not isinstance(self.chute, PlaneChute):
+            raise Unavailable("the dam-break solution needs a plane chute (chute = 'plane')")
+        zeta = self.chute.angle
+        beta = self.params.epsilon * math.cos(zeta) * self.k_active
+        dam = DamBreak.from_initial(initial, beta)
+        if dam is None:
+            return None
+        if dam.h_right != 0.0:
+            raise Unavailable(
+                "the dam-break solution needs the material upslope (left) of a dry bed"
+            )
+        slope = math.sin(zeta) - math.tan(math.radians(self.params.delta)) * math.cos(zeta)
+        if slope < 0.0:
+            raise Unavailable(
+                "the dam-break solution needs the material to slide (delta <= zeta); "
+                f"here tan(delta) > tan(zeta), s = {slope:.4g}"
+            )
+        if (context["left"], context["right"]) != ("outflow", "outflow"):
+            raise Unavailable("the exact dam-break solution assumes outflow boundaries")
+        solution = InclinedDamBreak(dam, slope)
+        low, high = solution.wave_extent(float(context["t_end"]))
+        if low < grid.x_min or high > grid.x_max:
+            raise Unavailable(f"a wave reaches the boundary before t={context['t_end']:g}")
         return solution
 
 

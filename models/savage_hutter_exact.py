@@ -1,4 +1,7 @@
-"""The parabolic similarity solution of the Savage–Hutter equations (Savage & Hutter 1989).
+"""Exact solutions of the Savage–Hutter equations: the parabolic similarity solution (Savage &
+Hutter 1989) and the dam break down an inclined plane (Mangeney et al. 2000).
+
+The similarity solution:
 
 On a plane (``zeta`` constant) with ``u > 0`` everywhere (reference §5):
 
@@ -23,6 +26,7 @@ from numpy.typing import NDArray
 from conslaw.errors import ConfigError
 from conslaw.exact import ExactSolution, piecewise_cell_averages
 from conslaw_models.roots import increasing_root
+from conslaw_models.shallow_water_exact import DamBreak
 
 Array = NDArray[np.float64]
 
@@ -111,3 +115,49 @@ class SimilaritySolution(ExactSolution):
         middle = self.centre + 0.5 * self.slope * t * t
         u = self.slope * t + (x - middle) * rate / g
         return np.where((x >= points[0]) & (x <= points[1]), u, np.nan)
+
+
+@dataclass(frozen=True)
+class InclinedDamBreak(ExactSolution):
+    """Dam break down an inclined plane with Coulomb friction onto a dry bed (Mangeney et al.,
+    Pure Appl. Geophys. 157, 2000; Faccanoni & Mangeney 2012, in the Savage–Hutter form): a
+    reservoir at rest upslope of ``x0`` (the left), dry beyond, on a plane of inclination
+    ``zeta`` with the net acceleration ``s = sin zeta - tan delta cos zeta >= 0``.
+
+    Every velocity is >= 0, so the friction keeps its sign and ``s`` is uniform. In the frame
+    ``x' = x - s t^2 / 2`` that moves with it, ``u' = u - s t``, the equations are those of
+    shallow water with gravity ``beta = eps cos zeta K_act`` and no source (the fan extends,
+    ``du/dx = 2 / (3t) > 0``: active; the reservoir slides as a block, ``du/dx = 0``), so the
+    solution is Ritter's fan (:class:`conslaw_models.shallow_water_exact.DamBreak` with
+    ``g = beta``, ``fan``) carried along: ``c0 = sqrt(beta h0)``,
+
+        h = (2 c0 - (x' - x0)/t)^2 / (9 beta),  u = s t + 2/3 (c0 + (x' - x0)/t)
+
+    for ``-c0 t < x' - x0 < 2 c0 t``, ``(h0, s t)`` behind it and dry ahead.
+    """
+
+    fan: DamBreak
+    slope: float
+
+    def _shift(self, t: float) -> float:
+        return 0.5 * self.slope * t * t
+
+    def _carried(self, values: Array, t: float) -> Array:
+        carried = values.copy()
+        carried[1] += self.slope * t * values[0]
+        return carried
+
+    def cell_averages(self, edges: Array, t: float) -> Array:
+        """Exact cell averages of (h, hu), each cell split at the kinks."""
+        shifted = np.asarray(edges, dtype=np.float64) - self._shift(t)
+        return self._carried(self.fan.cell_averages(shifted, t), t)
+
+    def point_values(self, x: Array, t: float) -> Array:
+        """Exact (h, hu) at the points x."""
+        shifted = np.asarray(x, dtype=np.float64) - self._shift(t)
+        return self._carried(self.fan.point_values(shifted, t), t)
+
+    def wave_extent(self, t: float) -> tuple[float, float]:
+        """The tail of the fan and the dry front at time t."""
+        low, high = self.fan.wave_extent(t)
+        return low + self._shift(t), high + self._shift(t)

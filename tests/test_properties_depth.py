@@ -9,10 +9,11 @@ instead of assuming it.
 
 Why not assume it: wet data do not stay wet. The data below (h >= 0.1, |u| < 0.9) can form a
 vacuum in the exact solution itself (for Savage–Hutter with K = 1, ``beta = 1/2``, two cells of
-depth 0.1 separating faster than ``2 (c_L + c_R) ~ 0.9`` open a dry gap), and WENO slopes undershoot in an
-unresolved valley: h = 0.5 | 0.109 | 0.5 between cells moving apart at 0.5 went to 0.044 after one
-step pair with ``weno5`` at 32 cells (t = 0.02), where the converged solution is 0.105 (the same
-data refined 64-fold) and ``weno5`` on a 4-fold finer grid gives 0.113. The quadratics through a
+depth 0.1 separating faster than ``2 (c_L + c_R) ~ 0.9`` open a dry gap), and WENO slopes
+undershoot in an unresolved valley: h = 0.5 | 0.109 | 0.5 between cells moving apart at 0.5
+went to 0.044 after one step pair with ``weno5`` at 32 cells (t = 0.02), where the converged
+solution is 0.105 (the same data refined 64-fold) and ``weno5`` on a 4-fold finer grid gives
+0.113. The quadratics through a
 one-cell valley dip below the data (WENO is essentially non-oscillatory, not bound preserving;
 ``docs/tvd.md``); the depth limit and the positivity rule still keep it >= 0. A former version of
 this test asserted h >= 0.05 at the end as a stand-in for "the correction never acted" and failed

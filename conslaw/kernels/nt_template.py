@@ -996,21 +996,22 @@ def face_correction(w0, w1, w2, face, rest_left, dt, dx, aux0, aux1, params):  #
 
 
 @njit(cache=True, error_model="numpy")
-def hold_resting_cells(w0, w1, w2, n0, dt, dx, aux0, aux1, params):  # type: ignore[no-untyped-def]
+def hold_resting_cells(w0, w1, w2, n0, dt, dx, aux0, aux1, params, work):  # type: ignore[no-untyped-def]
     """Give back, in ``w2`` (the state after a step pair from ``w0`` through ``w1``), every depth
     that the pair moved out of a cell at rest (:func:`at_rest`): material held by friction
     stays where it is (``h_t = -m_x = 0`` there). Without this, the staggered averaging moves
     depth out of cells at rest as numerical diffusion: a deposit would keep smearing while
     anything else moves, and its faces would feed margins that never stop. Depth may still
-    flow into a cell at rest.
+    flow into a cell at rest (:func:`face_correction`).
 
     A cell at rest gets its old depth less what crosses its faces (nothing where both sides
     are at rest: such a cell keeps its state bit for bit); a moving cell gets the pair's result
     with what it received from a cell at rest taken back. Conservative: what one cell of a face
-    gets back, the other gives. Nothing changes if a depth would become negative. A changed
-    cell gets the model's correction (a cell left below the dry depth holds no momentum).
-    Returns the largest wave speed of the changed cells (0 if none) and how many of them
-    stopped moving.
+    gets back, the other gives. Nothing changes if a depth would become negative (checked in
+    a first pass; ``work``, free after the pair, keeps the face transfers for the second). A
+    changed cell gets the model's correction (a cell left below the dry depth holds no
+    momentum). Returns the largest wave speed of the changed wet cells (0 if none) and how many
+    changed cells stopped moving.
     """
     state = local_vector(NV)
     coefficients = local_vector(NAUX)
@@ -1018,7 +1019,10 @@ def hold_resting_cells(w0, w1, w2, n0, dt, dx, aux0, aux1, params):  # type: ign
     load_params(params, local)
     largest = 0.0
     stopped = 0
+    capacity = work.size // 2
+    stored = 0
     for apply in range(2):
+        used = 0
         # The right face of the previous cell is the left face of this one.
         rest_right = at_rest(w0, w2, 0)
         moved_right, returned_right = 0.0, 0.0
@@ -1031,9 +1035,16 @@ def hold_resting_cells(w0, w1, w2, n0, dt, dx, aux0, aux1, params):  # type: ign
             if j + 1 < n0:
                 rest_right = at_rest(w0, w2, j + 1)
                 if rest != rest_right:
-                    moved_right, returned_right = face_correction(
-                        w0, w1, w2, j + 1, rest, dt, dx, aux0, aux1, local
-                    )
+                    if apply == 1 and used < stored:
+                        moved_right, returned_right = work[2 * used], work[2 * used + 1]
+                    else:
+                        moved_right, returned_right = face_correction(
+                            w0, w1, w2, j + 1, rest, dt, dx, aux0, aux1, local
+                        )
+                        if apply == 0 and used < capacity:
+                            work[2 * used], work[2 * used + 1] = moved_right, returned_right
+                            stored = used + 1
+                    used += 1
             elif rest:
                 moved_right = face_transfer(w0, w1, n0, dt, dx, aux0, aux1, local)
             c = col(NG + j)
@@ -1065,9 +1076,10 @@ def hold_resting_cells(w0, w1, w2, n0, dt, dx, aux0, aux1, params):  # type: ign
                 stopped += 1
             for v in range(NV):
                 w2[v, c] = state[v]
-            speed = _max_speed_point(state, coefficients, local)
-            if speed > largest:
-                largest = speed
+            if depth >= DRY_DEPTH:  # a dry cell's wave speed cannot matter
+                speed = _max_speed_point(state, coefficients, local)
+                if speed > largest:
+                    largest = speed
     return largest, stopped
 
 
@@ -1181,7 +1193,7 @@ def advance(  # type: ignore[no-untyped-def]
         if HAS_RESISTANCE and DEPTH >= 0 and MOMENTUM >= 0 and not static and moving < n0:
             # Cells that friction held at rest give no depth away.
             held_speed, stopped = hold_resting_cells(
-                buffers[now], w1, buffers[full], n0, dt, dx, aux0, aux1, params
+                buffers[now], w1, buffers[full], n0, dt, dx, aux0, aux1, params, work
             )
             speed2 = max(speed2, held_speed)
             moving2 -= stopped

@@ -1,0 +1,175 @@
+"""The checks of the Savage–Hutter earth pressure with phi > delta (docs/validation.md, "Earth
+pressure"): uniform layers, the dam break down an incline, the run-out coming to rest, a cap at
+rest, and the similarity solution with front tracking. Prints markdown tables.
+
+Usage: ``python scripts/earth_pressure_check.py [uniform|dam-break|run-out|cap|similarity ...]``
+(all by default; about four minutes here, most of it compiling kernels on an empty cache).
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+import conslaw
+from conslaw import registry
+from conslaw.analysis import observed_orders
+
+RECONSTRUCTORS = registry.reconstructors.names()
+
+UNIFORM = """
+model = "savage-hutter"
+reconstructor = "{reconstructor}"
+n_cells = {n}
+x_min = 0.0
+x_max = 10.0
+t_end = 10.0
+exact = false
+[boundary]
+left = "periodic"
+right = "periodic"
+[parameters]
+epsilon = 1.0
+phi = {phi}
+delta = {delta}
+chute = "plane"
+zeta = 30.0
+[initial]
+kind = "piecewise-constant"
+breakpoints = []
+states = [[1.0, 1.0]]
+"""
+
+
+def scene_file(text: str) -> Path:
+    """A scene written to a temporary file."""
+    with tempfile.NamedTemporaryFile("w", suffix=".toml", delete=False) as handle:
+        handle.write(text)
+    return Path(handle.name)
+
+
+def uniform() -> None:
+    """h = 1, u = 1, periodic, on a 30-degree plane: the largest |h - 1| and |u - (1 + s t)| at
+    t = 10 over every reconstructor, for each phi, delta and N."""
+    print("| phi | delta | N | max |h - 1| | max |u - (1 + s t)| |")
+    print("|---|---|---|---|---|")
+    for phi in (30.0, 30.01, 35.0, 45.0):
+        for delta in (29.99, 30.0):
+            for n in (100, 1600):
+                worst_h = worst_u = 0.0
+                for reconstructor in RECONSTRUCTORS:
+                    path = scene_file(
+                        UNIFORM.format(reconstructor=reconstructor, n=n, phi=phi, delta=delta)
+                    )
+                    result = conslaw.run(path)
+                    zeta, tan_delta = math.radians(30.0), math.tan(math.radians(delta))
+                    s = math.sin(zeta) - tan_delta * math.cos(zeta)
+                    exact_u = max(1.0 + s * 10.0, 0.0)
+                    q = result.final.q
+                    worst_h = max(worst_h, float(np.abs(q[0] - 1.0).max()))
+                    worst_u = max(worst_u, float(np.abs(q[1] / q[0] - exact_u).max()))
+                print(f"| {phi} | {delta} | {n} | {worst_h:.1e} | {worst_u:.1e} |")
+
+
+def dam_break() -> None:
+    """sh-dam-break-incline (phi = 30) and the same with phi = delta = 25: L1(h) at t = 2, the
+    observed orders, the ratio to the phi = delta run, and the largest h at 20 times."""
+    cells = (200, 400, 800, 1600)
+    times = [0.1 * k for k in range(1, 21)]
+    print("| reconstructor | L1 N=200 | 400 | 800 | 1600 | orders | L1 / L1(phi=delta) | max h |")
+    print("|---|---|---|---|---|---|---|---|")
+    for reconstructor in RECONSTRUCTORS:
+        errors, ratios, highest = [], [], 0.0
+        for n in cells:
+            runs = {}
+            for phi in (30.0, 25.0):
+                runs[phi] = conslaw.run(
+                    "sh-dam-break-incline", n_cells=n, reconstructor=reconstructor,
+                    output_times=times, parameters__phi=phi,
+                )  # fmt: skip
+            highest = max(highest, max(float(s.q[0].max()) for s in runs[30.0].states))
+            errors.append(runs[30.0].headline_error())
+            ratios.append(runs[30.0].headline_error() / runs[25.0].headline_error())
+        orders = observed_orders(cells, errors)
+        print(
+            f"| {reconstructor} | " + " | ".join(f"{e:.3e}" for e in errors)
+            + " | " + ", ".join(f"{o:.2f}" for o in orders)
+            + f" | {min(ratios):.2f}-{max(ratios):.2f} | {highest:.6f} |"
+        )  # fmt: skip
+
+
+def run_out() -> None:
+    """sh-runout-shock with phi = 32, 35, 40: when every momentum is 0, whether the state then
+    stays bit for bit, and the mass drift."""
+    times = [0.0, 4.0, 8.0, 12.0, 16.0, 20.0, 50.0, 100.0, 200.0]
+    print("| phi | moving cells at t = 20, 50, 100, 200 | t=200 equals t=100 bit for bit | mass |")
+    print("|---|---|---|---|")
+    for phi in (32.0, 35.0, 40.0):
+        result = conslaw.run(
+            "sh-runout-shock", parameters__phi=phi, output_times=times, t_end=times[-1]
+        )
+        moving = [int(np.count_nonzero(s.q[1])) for s in result.states[5:]]
+        same = np.array_equal(result.states[-1].q, result.states[-2].q)
+        print(f"| {phi} | {moving} | {same} | {result.mass_drift[0]:.1e} |")
+
+
+def cap() -> None:
+    """A cap at rest (sh-at-rest with zeta = 25, delta = 30, walls) for 10^4 steps, with and
+    without front tracking, every reconstructor: whether every momentum is 0 and h (and the
+    margins) are unchanged bit for bit."""
+    print("| phi | front tracking | steps | held bit for bit (every reconstructor) |")
+    print("|---|---|---|---|")
+    for phi in (30.0, 35.0, 45.0):
+        for tracking in (False, True):
+            held, steps = [], 0
+            for reconstructor in RECONSTRUCTORS:
+                result = conslaw.run(
+                    "sh-at-rest", reconstructor=reconstructor, front_tracking=tracking,
+                    parameters__zeta=25.0, parameters__phi=phi, t_end=2000.0,
+                    output_times=[0.0, 2000.0], boundary__left="wall", boundary__right="wall",
+                )  # fmt: skip
+                first, last = result.states
+                same = np.array_equal(first.q[0], last.q[0]) and not np.any(last.q[1])
+                if tracking:
+                    same = same and first.margins == last.margins
+                held.append(same)
+                steps = result.steps
+            print(f"| {phi} | {tracking} | {steps} | {all(held)} |")
+
+
+def similarity() -> None:
+    """sh-similarity-ft with phi = 35 (and 30): margin errors at t = 6 in cells, L1(h), orders."""
+    print("| phi | N | L1(h) | rear error / dx | front error / dx | largest margin error |")
+    print("|---|---|---|---|---|---|")
+    for phi in (30.0, 35.0):
+        margins = []
+        for n in (90, 180, 360):
+            result = conslaw.run("sh-similarity-ft", parameters__phi=phi, n_cells=n)
+            assert result.exact_solution is not None and result.final.margins is not None
+            rear, front = result.exact_solution.margins(result.final.t)  # type: ignore[attr-defined]
+            dx = result.grid.dx
+            tracked = result.final.margins
+            assert tracked.rear is not None and tracked.front is not None
+            rear_error, front_error = tracked.rear.position - rear, tracked.front.position - front
+            margins.append(max(abs(rear_error), abs(front_error)))
+            print(
+                f"| {phi} | {n} | {result.headline_error():.3e} | {rear_error / dx:+.3f} "
+                f"| {front_error / dx:+.3f} | {margins[-1]:.2e} |"
+            )
+        orders = observed_orders((90, 180, 360), margins)
+        print(f"| {phi} | orders of the margin error | | | | {orders[0]:.2f}, {orders[1]:.2f} |")
+
+
+CHECKS = {
+    "uniform": uniform, "dam-break": dam_break, "run-out": run_out, "cap": cap,
+    "similarity": similarity,
+}  # fmt: skip
+
+if __name__ == "__main__":
+    for name in sys.argv[1:] or list(CHECKS):
+        print(f"\n### {name}\n")
+        CHECKS[name]()

@@ -1,0 +1,260 @@
+"""The Savage–Hutter earth pressure with ``phi > delta`` (docs/design.md, "Earth pressure"):
+uniform layers stay uniform, material at rest stays at rest (with and without front tracking),
+the run-out comes to rest, the dam break down an incline converges to its exact solution, and
+the similarity solution keeps its margins. The numbers of docs/validation.md, "Earth pressure",
+come from ``python scripts/earth_pressure_check.py``.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+
+import conslaw
+from conslaw import registry
+from conslaw.analysis import observed_orders
+from conslaw.exact import Unavailable
+from conslaw.grid import Grid
+from conslaw.initial import InitialCondition
+from conslaw_models.savage_hutter import SavageHutter, earth_pressure_coefficients
+from conslaw_models.savage_hutter_exact import InclinedDamBreak
+
+RECONSTRUCTORS = registry.reconstructors.names()
+
+UNIFORM = """
+model = "savage-hutter"
+reconstructor = "{reconstructor}"
+n_cells = {n}
+x_min = 0.0
+x_max = 10.0
+t_end = 10.0
+exact = false
+[boundary]
+left = "periodic"
+right = "periodic"
+[parameters]
+epsilon = 1.0
+phi = {phi}
+delta = {delta}
+chute = "plane"
+zeta = 30.0
+[initial]
+kind = "piecewise-constant"
+breakpoints = []
+states = [[1.0, 1.0]]
+"""
+
+
+@pytest.mark.parametrize("reconstructor", RECONSTRUCTORS)
+@pytest.mark.parametrize("n", [100, 1600])
+def test_a_uniform_layer_stays_uniform_whatever_phi(
+    reconstructor: str, n: int, tmp_path: Path
+) -> None:
+    """h = 1, u = 1 on a periodic 30-degree plane: ``h`` stays 1 and ``u = 1 + s t`` to 1e-12
+    at t = 10, for phi just above and well above delta (the earth pressure switching with the
+    round-off of the velocity slope broke this layer up by 10 % with phi = 35 before)."""
+    for phi in (30.0, 30.01, 35.0, 45.0):
+        for delta in (29.99, 30.0):
+            scene = tmp_path / f"uniform-{phi}-{delta}.toml"
+            scene.write_text(UNIFORM.format(reconstructor=reconstructor, n=n, phi=phi, delta=delta))
+            q = conslaw.run(scene).final.q
+            zeta = math.radians(30.0)
+            s = math.sin(zeta) - math.tan(math.radians(delta)) * math.cos(zeta)
+            assert np.abs(q[0] - 1.0).max() <= 1e-12, (phi, delta)
+            assert np.abs(q[1] / q[0] - (1.0 + s * 10.0)).max() <= 1e-12, (phi, delta)
+
+
+# ---------------------------------------------------------------------- material at rest
+@st.composite
+def held_caps(draw: st.DrawFn) -> dict[str, float]:
+    """Parameters of a parabolic cap that friction holds at rest with the smallest earth
+    pressure ``K_act`` (with half the friction to spare): ``delta > zeta`` and
+    ``eps cos zeta K_act 2 H / R <= (tan delta cos zeta - sin zeta) / 2`` on its steepest
+    face. phi anywhere from delta to delta + 20 degrees."""
+    zeta = draw(st.floats(0.0, 35.0))
+    delta = draw(st.floats(zeta + 3.0, 60.0))
+    phi = min(delta + draw(st.floats(0.01, 20.0)), 89.0)
+    epsilon = draw(st.floats(0.01, 1.0))
+    radius = draw(st.floats(1.0, 3.0))
+    k_active, _ = earth_pressure_coefficients(math.radians(phi), math.radians(delta))
+    z, d = math.radians(zeta), math.radians(delta)
+    spare = 0.5 * (math.tan(d) * math.cos(z) - math.sin(z))
+    steepest = spare / (epsilon * math.cos(z) * k_active)
+    height = draw(st.floats(0.05, 1.0)) * steepest * radius / 2.0
+    return {"zeta": zeta, "delta": delta, "phi": phi, "epsilon": epsilon, "radius": radius,
+            "height": height}  # fmt: skip
+
+
+def run_cap(cap: dict[str, float], reconstructor: str, tracking: bool, t_end: float):  # type: ignore[no-untyped-def]
+    return conslaw.run(
+        "sh-at-rest", reconstructor=reconstructor, front_tracking=tracking, t_end=t_end,
+        output_times=[0.0, t_end], boundary__left="wall", boundary__right="wall",
+        parameters__zeta=cap["zeta"], parameters__delta=cap["delta"], parameters__phi=cap["phi"],
+        parameters__epsilon=cap["epsilon"], initial__radius=cap["radius"],
+        initial__height=cap["height"], n_cells=40,
+    )  # fmt: skip
+
+
+@pytest.mark.parametrize(("reconstructor", "tracking"), [("mc", False), ("weno5", True)])
+@settings(max_examples=25, deadline=None)
+@given(cap=held_caps(), pairs=st.integers(50, 400))
+def test_material_at_rest_stays_at_rest_whatever_phi(
+    reconstructor: str, tracking: bool, cap: dict[str, float], pairs: int
+) -> None:
+    """A cap that friction holds stays at rest: every momentum exactly 0, the depth (and the
+    tracked margins) bit for bit, for phi from delta up (where the earth pressure of material
+    at rest may lie anywhere between K_act and K_pass)."""
+    first = run_cap(cap, reconstructor, tracking, 1e-9)
+    start = first.final
+    dt = first.scheme.stable_dt(start)
+    result = run_cap(cap, reconstructor, tracking, 2.0 * pairs * dt)
+    begin, end = result.states
+    assert not np.any(end.q[1])
+    np.testing.assert_array_equal(end.q[0], begin.q[0])
+    assert end.margins == begin.margins
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("reconstructor", RECONSTRUCTORS)
+@pytest.mark.parametrize("tracking", [False, True])
+def test_a_cap_at_rest_holds_for_ten_thousand_steps(reconstructor: str, tracking: bool) -> None:
+    """sh-at-rest on a 25-degree plane (delta = 30, walls), phi = 30, 35, 45: after 10^4 steps
+    every momentum is exactly 0 and the depth (and the margins) are the initial ones bit for bit
+    (front tracking smeared this cap by up to 0.2 and moved its rear margin upslope before)."""
+    for phi in (30.0, 35.0, 45.0):
+        result = conslaw.run(
+            "sh-at-rest", reconstructor=reconstructor, front_tracking=tracking,
+            parameters__zeta=25.0, parameters__phi=phi, t_end=2000.0, output_times=[0.0, 2000.0],
+            boundary__left="wall", boundary__right="wall",
+        )  # fmt: skip
+        assert result.steps >= 10_000
+        begin, end = result.states
+        assert not np.any(end.q[1])
+        np.testing.assert_array_equal(end.q[0], begin.q[0])
+        assert end.margins == begin.margins
+
+
+# ---------------------------------------------------------------------- the run-out
+@pytest.mark.parametrize("phi", [32.0, 35.0, 40.0])
+def test_the_run_out_comes_to_rest_and_stays(phi: float) -> None:
+    """sh-runout-shock with phi > delta = 30: every momentum is exactly 0 by t = 50, the deposit
+    then stays bit for bit, and the mass is conserved to round-off (with phi = 32 and 35 the
+    deposit was still moving at t = 200 before)."""
+    times = [0.0, 4.0, 8.0, 12.0, 16.0, 20.0, 50.0, 100.0, 200.0]
+    result = conslaw.run(
+        "sh-runout-shock", parameters__phi=phi, output_times=times, t_end=times[-1]
+    )
+    at_rest = result.states[times.index(50.0) :]
+    for state in at_rest:
+        assert not np.any(state.q[1]), f"moving at t = {state.t}"
+        np.testing.assert_array_equal(state.q, at_rest[0].q)
+    assert abs(result.mass_drift[0]) <= 1e-14
+
+
+# ---------------------------------------------------------------------- dam break on an incline
+def test_the_inclined_dam_break_is_the_ritter_fan_carried_along() -> None:
+    """The exact solution: mass conserved, the reservoir sliding at ``s t``, the front at
+    ``x0 + 2 c0 t + s t^2 / 2`` with ``u = s t + 2 c0`` there, and no solution where it does not
+    apply."""
+    model = SavageHutter(epsilon=1.0, phi=30.0, delta=25.0, zeta=35.0)
+    grid = Grid(-5.0, 5.0, 200)
+    initial = InitialCondition.from_table(
+        {"kind": "piecewise-constant", "breakpoints": [0.0], "states": [[1.0, 0.0], [0.0, 0.0]]},
+        SavageHutter,
+    )
+    context = {"left": "outflow", "right": "outflow", "t_end": 2.0}
+    exact = model.exact_solution(initial, grid, context)
+    assert isinstance(exact, InclinedDamBreak)
+    zeta = math.radians(35.0)
+    s = math.sin(zeta) - math.tan(math.radians(25.0)) * math.cos(zeta)
+    beta = math.cos(zeta) * model.k_active
+    c0 = math.sqrt(beta)
+    t = 1.5
+    front = 2 * c0 * t + 0.5 * s * t * t
+    h, m = exact.point_values(np.array([-4.0, front - 1e-9, front + 1e-9]), t)
+    assert h[0] == 1.0 and m[0] == pytest.approx(s * t, rel=1e-14)
+    assert h[1] == pytest.approx(0.0, abs=1e-12) and h[2] == 0.0
+    assert exact.wave_extent(t)[1] == pytest.approx(front, rel=1e-14)
+    averages = exact.cell_averages(grid.edges, t)
+    mass_in = 5.0 + s * t * t / 2.0  # the reservoir between x = -5 and 0, slid by s t^2/2
+    assert averages[0].sum() * grid.dx == pytest.approx(mass_in, rel=1e-12)
+    with pytest.raises(Unavailable, match="slide"):
+        SavageHutter(phi=30.0, delta=25.0, zeta=20.0).exact_solution(initial, grid, context)
+    with pytest.raises(Unavailable, match="outflow"):
+        model.exact_solution(initial, grid, {**context, "left": "wall"})
+    with pytest.raises(Unavailable, match="boundary"):
+        model.exact_solution(initial, grid, {**context, "t_end": 4.0})
+
+
+def dam_break_errors(reconstructor: str, cells: list[int], phi: float) -> tuple[list[float], float]:
+    """L1(h) at t = 2 of sh-dam-break-incline, and the largest depth at 20 output times."""
+    errors, highest = [], 0.0
+    for n in cells:
+        result = conslaw.run(
+            "sh-dam-break-incline", n_cells=n, reconstructor=reconstructor,
+            parameters__phi=phi, output_times=[0.1 * k for k in range(1, 21)],
+        )  # fmt: skip
+        error = result.headline_error()
+        assert error is not None
+        errors.append(error)
+        highest = max(highest, max(float(s.q[0].max()) for s in result.states))
+    return errors, highest
+
+
+def check_dam_break(reconstructor: str, cells: list[int], order: float) -> None:
+    """The observed order between successive grids at least ``order``, the error within 1.5
+    times that of the same run with phi = delta at every N, and the depth never above 1.001 h0
+    (weno5 grew it to 17.8 h0 at 800 cells before)."""
+    errors, highest = dam_break_errors(reconstructor, cells, 30.0)
+    reference, _ = dam_break_errors(reconstructor, cells, 25.0)
+    orders = observed_orders(cells, errors)
+    assert min(orders) >= order, orders
+    assert all(e <= 1.5 * r for e, r in zip(errors, reference, strict=True)), (errors, reference)
+    assert highest <= 1.001
+
+
+@pytest.mark.parametrize("reconstructor", ["mc", "weno5"])
+def test_the_inclined_dam_break_converges(reconstructor: str) -> None:
+    check_dam_break(reconstructor, [200, 400, 800], 0.95)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("reconstructor", RECONSTRUCTORS)
+def test_the_inclined_dam_break_converges_with_every_reconstructor(reconstructor: str) -> None:
+    """Order >= 0.8 from 200 to 1600 cells with every TVD and WENO reconstructor, except
+    superbee, 0.79 from 800 to 1600 (1.03 over the whole range); 0.77 with the first-order
+    scheme ``none``, the same as with phi = delta (its error ratio to that run stays at 1.1):
+    measured, docs/validation.md, "Earth pressure"."""
+    check_dam_break(
+        reconstructor,
+        [200, 400, 800, 1600],
+        {"none": 0.75, "superbee": 0.75}.get(reconstructor, 0.8),
+    )
+
+
+# ---------------------------------------------------------------------- similarity solution
+def test_the_similarity_solution_with_phi_35_keeps_its_margins() -> None:
+    """sh-similarity-ft with phi = 35 (K_act = 1.01, a third of the phi = delta = 30 value):
+    both margins within 0.05 dx of the exact ones at 90, 180 and 360 cells (the acceptance
+    bound is 0.5 dx), and L1(h) falling at order >= 1. (The margin error itself, 5.3e-3,
+    4.3e-3, 2.0e-3, does not yet fall at order 1 from 90 cells: at CFL 0.3 the fitted margin
+    slope of front tracking lags by a few 1e-3 whatever the grid, with phi = delta as well;
+    docs/validation.md, "Earth pressure".)"""
+    errors = []
+    for n in (90, 180, 360):
+        result = conslaw.run("sh-similarity-ft", parameters__phi=35.0, n_cells=n)
+        exact = result.exact_solution
+        margins = result.final.margins
+        assert exact is not None and margins is not None
+        assert margins.rear is not None and margins.front is not None
+        rear, front = exact.margins(result.final.t)  # type: ignore[attr-defined]
+        error = max(abs(margins.rear.position - rear), abs(margins.front.position - front))
+        assert error <= 0.05 * result.grid.dx, (n, error / result.grid.dx)
+        l1 = result.headline_error()
+        assert l1 is not None
+        errors.append(l1)
+    assert min(observed_orders([90, 180, 360], errors)) >= 1.0, errors
