@@ -721,13 +721,14 @@ def average_cells(  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def holdable(work, g, n_dst):  # type: ignore[no-untyped-def]
-    """Whether new cell ``g`` alone could be brought to rest: its momentum with the low end of
-    the rest range, changed by at most the spans at its two ends, within its impulse."""
+def holdable(work, g):  # type: ignore[no-untyped-def]
+    """Whether new cell ``g`` could be brought to rest with both its ends free: its momentum
+    with the low end of the rest range, changed by at most the spans at its two ends, within
+    its impulse (a filter: the runs themselves fix the ends of each run)."""
     momentum = work[rest_slot(work, REST_MOMENTUM, g)]
     impulse = work[rest_slot(work, REST_IMPULSE, g)]
-    reach_up = work[rest_slot(work, REST_SPAN, g)] if g > 0 else 0.0
-    reach_down = work[rest_slot(work, REST_SPAN, g + 1)] if g + 1 < n_dst else 0.0
+    reach_up = work[rest_slot(work, REST_SPAN, g)]
+    reach_down = work[rest_slot(work, REST_SPAN, g + 1)]
     return momentum - impulse <= reach_up and momentum + impulse >= -reach_down
 
 
@@ -769,7 +770,7 @@ def stop_cells(dst, start, stop):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, error_model="numpy")
-def hold_static_runs(dst, n_dst, work):  # type: ignore[no-untyped-def]
+def hold_static_runs(dst, n_dst, seam, work):  # type: ignore[no-untyped-def]
     """Stop the runs of new cells that friction and a statically admissible earth pressure
     bring to rest within the step; returns how many of them this stopped (their momentum is
     set to 0). The implicit treatment of the set-valued laws at rest: as the stopping rule
@@ -789,7 +790,10 @@ def hold_static_runs(dst, n_dst, work):  # type: ignore[no-untyped-def]
     longest run that can be held as a whole (:func:`longest_held_from` from every start) is
     held, and the stretches on either side of it are treated the same way; a tie between
     overlapping runs holds neither. The result is the same read from either end (a mirror
-    image is held as the mirror image) (docs/design.md, "Earth pressure").
+    image is held as the mirror image) (docs/design.md, "Earth pressure"). On a periodic domain
+    the staggered cell ``seam`` (-1: none) straddles the ends of the index range; it is left to
+    friction alone, so that runs never wrap and the mirror image of a periodic state (which maps
+    that cell onto itself) is treated the same way.
     """
     stopped = 0
     g = 0
@@ -798,11 +802,11 @@ def hold_static_runs(dst, n_dst, work):  # type: ignore[no-untyped-def]
     # left unheld).
     stack = local_vector(STACK_SIZE)
     while g < n_dst:
-        if not holdable(work, g, n_dst):
+        if g == seam or not holdable(work, g):
             g += 1
             continue
         stop = g + 1
-        while stop < n_dst and holdable(work, stop, n_dst):
+        while stop < n_dst and stop != seam and holdable(work, stop):
             stop += 1
         stack[0], stack[1] = g, stop
         depth = 2
@@ -901,7 +905,10 @@ def nt_step(  # type: ignore[no-untyped-def]
             if block_largest > largest:
                 largest = block_largest
     if HAS_REST_COEFFICIENTS:
-        moving -= hold_static_runs(dst, n_dst, work)
+        # On a periodic domain (as many staggered cells as primary ones) the staggered cell 0
+        # is centred on the seam.
+        seam = 0 if n_dst == n_src and shift < 0 else -1
+        moving -= hold_static_runs(dst, n_dst, seam, work)
     if bad > 0:
         # Rare path: find the first bad cell and tell an inadmissible state from an overflowing
         # wave speed, as max_speed does.

@@ -75,17 +75,17 @@ class SubcellHooks:
         """Replace the quarter-point states of the source integration (eqs. 13-14) in place."""
 
 
-def static_runs_held(momentum: Array, impulse: Array, span: Array) -> Array:
+def static_runs_held(momentum: Array, impulse: Array, span: Array, seam: int = -1) -> Array:
     """Which new cells friction and a statically admissible pressure bring to rest: the
     kernel's ``hold_static_runs`` (whose docstring gives the rule), in plain Python loops (the
     reference, not the kernel). ``momentum`` is every new cell's momentum before the stopping
     rule with the low end of the rest range, ``impulse`` its resistive impulse, ``span`` the
     largest flux change at every source cell (new cell ``g`` lies between source cells ``g``
-    and ``g + 1``)."""
+    and ``g + 1``), ``seam`` the new cell left to friction alone (-1: none)."""
     n = momentum.size
-    reach_up = np.where(np.arange(n) > 0, span[:n], 0.0)
-    reach_down = np.where(np.arange(n) + 1 < n, span[1 : n + 1], 0.0)
-    holdable = (momentum - impulse <= reach_up) & (momentum + impulse >= -reach_down)
+    holdable = (momentum - impulse <= span[:n]) & (momentum + impulse >= -span[1 : n + 1])
+    if seam >= 0:
+        holdable[seam] = False
 
     def longest_from(start: int, stop: int) -> int:
         low = high = 0.0
@@ -450,7 +450,8 @@ class NessyahuTadmor(Scheme):
             assert momentum is not None and before_resistance is not None
             ratio = dt / self.grid.dx
             low = before_resistance - ratio * (rest_difference - difference[momentum])
-            held = static_runs_held(low, impulse, span)
+            seam = 0 if self.periodic and not staggered else -1
+            held = static_runs_held(low, impulse, span, seam)
             new[momentum] = np.where(held, 0.0, new[momentum])
         return new
 
