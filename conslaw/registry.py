@@ -9,6 +9,7 @@ broken plugin is refused with a clear message instead of failing deep inside a r
 from __future__ import annotations
 
 import dataclasses
+import threading
 import warnings
 from collections.abc import Callable, Iterator
 from importlib import resources
@@ -47,6 +48,10 @@ class Registry(Generic[T]):
         self._builtins = builtins
         self._entries: dict[str, T] = {}
         self._loaded = False
+        # Another thread waits until the entries are filled; the loading thread itself (a plugin
+        # whose check asks the registry again) sees what is registered so far.
+        self._lock = threading.RLock()
+        self._loading = False
 
     def register(self, name: str, obj: Any) -> T:
         """Check ``obj`` against the contract and register it under ``name``."""
@@ -59,7 +64,18 @@ class Registry(Generic[T]):
     def _load(self) -> None:
         if self._loaded:
             return
-        self._loaded = True
+        with self._lock:
+            if self._loaded or self._loading:
+                return
+            self._loading = True
+            try:
+                self._fill()
+            finally:
+                self._loading = False
+                self._loaded = True
+
+    def _fill(self) -> None:
+        """Register the built-in entries and every plugin of the entry-point group."""
         if self._builtins is not None:
             for name, obj in self._builtins():
                 self.register(name, obj)
@@ -71,7 +87,7 @@ class Registry(Generic[T]):
             except Exception as error:  # a broken plugin must not break unrelated runs
                 warnings.warn(
                     f"conslaw: skipped {self.kind} plugin '{point.name}' ({point.value}): {error}",
-                    stacklevel=2,
+                    stacklevel=3,
                 )
 
     def get(self, name: str) -> T:

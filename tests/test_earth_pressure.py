@@ -68,6 +68,18 @@ def test_a_uniform_layer_stays_uniform_whatever_phi(
             assert np.abs(q[1] / q[0] - (1.0 + s * 10.0)).max() <= 1e-12, (phi, delta)
 
 
+def test_a_frictionless_uniform_layer_accelerates_freely_whatever_phi(tmp_path: Path) -> None:
+    """delta = 0 < phi (no bed friction, earth pressure still switching): the uniform layer above
+    stays uniform and ``u = 1 + sin(zeta) t`` to 1e-12 at t = 10."""
+    for phi in (0.01, 30.0, 85.0):
+        scene = tmp_path / f"frictionless-{phi}.toml"
+        scene.write_text(UNIFORM.format(reconstructor="mc", n=100, phi=phi, delta=0.0))
+        q = conslaw.run(scene).final.q
+        assert np.abs(q[0] - 1.0).max() <= 1e-12, phi
+        u_exact = 1.0 + math.sin(math.radians(30.0)) * 10.0
+        assert np.abs(q[1] / q[0] - u_exact).max() <= 1e-12 * u_exact, phi
+
+
 # ---------------------------------------------------------------------- material at rest
 @st.composite
 def held_caps(draw: st.DrawFn) -> dict[str, float]:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import subprocess
+import sys
 from importlib.metadata import entry_points
 
 import pytest
@@ -130,3 +132,23 @@ def test_every_registered_scheme_runs_or_refuses_every_model() -> None:
     assert ("lagrangian", "burgers") in refused
     assert {("lagrangian", "savage-hutter"), ("lagrangian", "shallow-water")} <= ran
     assert {s for s, _ in ran} == set(registry.schemes.names())
+
+
+def test_threads_see_every_entry_in_a_fresh_interpreter() -> None:
+    """Four threads asking a fresh registry at once all see every model (the entries are filled
+    before any thread reads them)."""
+    script = (
+        "import threading\n"
+        "from conslaw import registry\n"
+        "seen = []\n"
+        "def ask():\n"
+        "    seen.append(tuple(registry.models.names()))\n"
+        "threads = [threading.Thread(target=ask) for _ in range(4)]\n"
+        "[t.start() for t in threads]\n"
+        "[t.join() for t in threads]\n"
+        "print(sorted(set(seen)))\n"
+    )
+    for _ in range(3):
+        done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
+        assert done.returncode == 0, done.stderr
+        assert done.stdout.strip() == "[('burgers', 'savage-hutter', 'shallow-water')]"

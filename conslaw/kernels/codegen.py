@@ -4,8 +4,9 @@ numba caches compiled code on disk only for functions defined at module level in
 not for closures or for functions taking other compiled functions as arguments. So a kernel that is
 generic over the model, the reconstructor and the boundary conditions is produced by writing a small
 module per combination: the template's text with its binding block replaced by imports of the chosen
-module-level functions. The file name carries a hash of the template and of every bound module's
-source, so editing the physics invalidates the cache.
+module-level functions. The file name carries a hash of the template and of the source files of
+the compiled functions the kernel can reach (:func:`dependency_sources`), so editing the physics
+invalidates the cache and editing anything else does not.
 
 Cache folder: ``$CONSLAW_CACHE_DIR``, else ``$XDG_CACHE_HOME/conslaw/kernels``, else
 ``~/.cache/conslaw/kernels``; a temporary folder if none of these is writable.
@@ -13,16 +14,17 @@ Cache folder: ``$CONSLAW_CACHE_DIR``, else ``$XDG_CACHE_HOME/conslaw/kernels``, 
 
 from __future__ import annotations
 
+import ast
 import hashlib
 import importlib
 import importlib.util
-import inspect
 import os
 import sys
 import tempfile
+import threading
 from collections.abc import Callable, Mapping
 from pathlib import Path
-from types import ModuleType
+from types import CodeType, ModuleType
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
@@ -31,10 +33,9 @@ if TYPE_CHECKING:
 _TEMPLATE_DIR = Path(__file__).resolve().parent
 _BEGIN = "# --- bindings ---"
 _END = "# --- end bindings ---"
-#: In a template that continues another (``base``), the end of the header that only serves
-#: linting (its imports of the base template's names); the generated module drops it.
-_HEADER_END = "# --- end of continuation header ---"
 _loaded: dict[str, ModuleType] = {}
+#: One thread at a time writes and imports a generated module (and fills ``_loaded``).
+_lock = threading.RLock()
 
 
 def cache_dir() -> Path:
@@ -77,78 +78,193 @@ def import_path(function: Callable[..., Any]) -> tuple[str, str]:
     return module_name, name
 
 
-def _module_source(module_name: str) -> str:
-    """The source of the module and of every module beside it in its package folder, so that
-    editing a helper the bound function imports from a sibling module also recompiles."""
-    module = importlib.import_module(module_name)
-    try:
-        path = Path(inspect.getfile(module))
-    except (OSError, TypeError):
-        return module_name
-    return "\0".join(
-        f"{sibling.name}\0{sibling.read_text()}" for sibling in sorted(path.parent.glob("*.py"))
-    )
+def _defining_file(value: Any) -> str | None:
+    """The source file that defines a compiled function, intrinsic or overload, if any."""
+    for attribute in ("py_func", "_defn", "_definition_func"):
+        inner = getattr(value, attribute, None)
+        if inner is not None:
+            code = getattr(inner, "__code__", None)
+            return code.co_filename if code is not None else None
+    return None
+
+
+def _names_used(code: CodeType) -> set[str]:
+    """Global and attribute names a code object (and the code objects nested in it) uses."""
+    names = set(code.co_names)
+    for constant in code.co_consts:
+        if isinstance(constant, CodeType):
+            names |= _names_used(constant)
+    return names
+
+
+def dependency_sources(roots: Mapping[str, Any]) -> list[str]:
+    """What the compiled code reachable from ``roots`` depends on: the text of every source file
+    that defines a compiled function it can call (following the globals each function uses, and
+    the attributes of modules it uses), and the value of every plain constant it reads.
+
+    numba freezes a global constant into the compiled code and checks only the calling file's
+    time stamp before it loads cached code, so these are what a kernel's cache key must cover;
+    the folder around a bound module is not (appending to ``conslaw/cli.py`` recompiles nothing).
+    """
+    files: set[str] = set()
+    constants: list[str] = []
+    seen: set[int] = set()
+    pending: list[tuple[str, Any]] = list(roots.items())
+    while pending:
+        label, value = pending.pop()
+        if id(value) in seen:
+            continue
+        seen.add(id(value))
+        if isinstance(value, (bool, int, float, complex, str, bytes, tuple, type(None))):
+            constants.append(f"{label}={value!r}")
+            continue
+        file = _defining_file(value)
+        if file is None:
+            continue
+        files.add(file)
+        function = getattr(value, "py_func", None)
+        if function is None:
+            continue
+        namespace = function.__globals__
+        used = _names_used(function.__code__)
+        for name in sorted(used & namespace.keys()):
+            target = namespace[name]
+            if isinstance(target, ModuleType):
+                pending.extend(
+                    (f"{target.__name__}.{attribute}", getattr(target, attribute))
+                    for attribute in sorted(used)
+                    if hasattr(target, attribute)
+                )
+            else:
+                pending.append((f"{function.__module__}.{name}", target))
+    texts = []
+    for file in sorted(files):
+        try:
+            texts.append(f"{file}\0{Path(file).read_text()}")
+        except OSError:
+            texts.append(file)
+    return texts + sorted(constants)
+
+
+def _template_imports(text: str) -> dict[str, Any]:
+    """The objects a template imports at module level with ``from ... import`` (outside its
+    binding block), by name; numpy, numba and llvmlite are versioned by numba's own cache."""
+    head, _, rest = text.partition(_BEGIN)
+    _, _, tail = rest.partition(_END)
+    objects: dict[str, Any] = {}
+    for node in ast.parse(head + tail).body:
+        if not isinstance(node, ast.ImportFrom) or not node.module or node.level != 0:
+            continue
+        if node.module.split(".")[0] in ("numpy", "numba", "llvmlite"):
+            continue
+        module = importlib.import_module(node.module)
+        for alias in node.names:
+            objects[f"{node.module}.{alias.name}"] = getattr(module, alias.name, None)
+    return objects
+
+
+def _binding_block(block: str, statements: list[str]) -> str:
+    """The binding block rewritten with ``statements`` in exactly as many lines as the template's
+    block has, so that every line after it keeps the template's line number (tracebacks and
+    numba's messages name the template's own lines)."""
+    room = block.count("\n") - 1
+    if room < 1:
+        raise ValueError("a template's binding block needs at least one line between its markers")
+    per_line = max(1, -(-len(statements) // room))
+    rows = ["; ".join(statements[i : i + per_line]) for i in range(0, len(statements), per_line)]
+    rows += [""] * (room - len(rows))
+    return "\n".join([_BEGIN, *rows, _END])
+
+
+def _prune(folder: Path, family: str, keep: str) -> None:
+    """Remove the generated modules of ``family`` other than ``keep``, with numba's cache files
+    of them: the same template and bindings generated from an earlier version of the code."""
+    for path in folder.glob(f"{family}_*.py"):
+        if path.stem == keep:
+            continue
+        for cached in (folder / "__pycache__").glob(f"{path.stem}.*"):
+            cached.unlink(missing_ok=True)
+        path.unlink(missing_ok=True)
 
 
 def generate(
-    template: str,
+    template: str | Path,
     bindings: Mapping[str, Callable[..., Any]],
     constants: Mapping[str, bool | int | float] | None = None,
-    base: str | None = None,
+    imports: Mapping[str, ModuleType] | None = None,
 ) -> ModuleType:
     """Write (once) and import the module of ``template`` with ``bindings`` in place.
 
     Parameters
     ----------
-    template : str
-        File name of a template in this package (e.g. ``"nt_template.py"``).
+    template : str or Path
+        A template file: a path, or a file name in this package (e.g. ``"nt_template.py"``).
     bindings : mapping
         Placeholder name -> module-level compiled function.
     constants : mapping, optional
         Module-level constants (compile-time for numba: dead branches are removed).
-    base : str, optional
-        A template that ``template`` continues: the generated module is the base template
-        followed by ``template`` after its continuation header (so the continuation calls the
-        base's functions, compiled with the same bindings and constants, in the same module).
+    imports : mapping, optional
+        Template module name -> generated module: the template's ``from NAME import ...``
+        statements import from the generated module instead (a template that continues another
+        calls the other's functions, compiled once with the other's bindings and constants).
+
+    Notes
+    -----
+    Every line of the generated module outside the binding block is the template's line of the
+    same number. The file name is ``conslaw_kernel_<template>_<identity>_<digest>``: the identity
+    hashes what was asked for (template, bindings, constants, imports), the digest everything the
+    compiled code depends on (:func:`dependency_sources`). A module of the same identity and
+    another digest is stale; it is removed, with numba's cache files of it, when the new one is
+    written.
     """
-    constants = dict(constants or {})
-    text = (_TEMPLATE_DIR / template).read_text()
-    if base is not None:
-        _, continuation = text.split(_HEADER_END, 1)
-        text = (_TEMPLATE_DIR / base).read_text() + continuation
-    head, rest = text.split(_BEGIN, 1)
-    _, tail = rest.split(_END, 1)
-    lines = [_BEGIN]
-    sources = [text]
-    modules = set()
+    imports = dict(imports or {})
+    path = Path(template)
+    if not path.is_absolute():
+        path = _TEMPLATE_DIR / path
+    text = path.read_text()
+    for name, module in sorted(imports.items()):
+        text = text.replace(f"from {name} import", f"from {module.__name__} import")
+    statements = []
+    roots: dict[str, Any] = _template_imports(text)
     for placeholder, function in sorted(bindings.items()):
         module_name, name = import_path(function)
-        lines.append(f"from {module_name} import {name} as {placeholder}")
-        modules.add(module_name)
-    # The kernels package itself (templates, scratch arrays) is part of every kernel's source.
-    modules.add(__name__)
-    sources.extend(_module_source(module_name) for module_name in sorted(modules))
-    for key, value in sorted(constants.items()):
-        lines.append(f"{key} = {value!r}")
-    lines.append(_END)
-    body = head + "\n".join(lines) + tail
-    digest = hashlib.sha256("\0".join([body, *sources]).encode()).hexdigest()[:20]
-    module_name = f"conslaw_kernel_{Path(template).stem}_{digest}"
-    if module_name in _loaded:
-        return _loaded[module_name]
-    path = cache_dir() / f"{module_name}.py"
-    if not path.exists() or path.read_text() != body:
-        temporary = path.with_suffix(f".{os.getpid()}.tmp")
-        temporary.write_text(body)
-        os.replace(temporary, path)
-    spec = importlib.util.spec_from_file_location(module_name, path)
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    # numba's cache re-imports the module by name when it loads a cached function.
-    sys.modules[module_name] = module
-    spec.loader.exec_module(module)
-    _loaded[module_name] = module
-    return module
+        statements.append(f"from {module_name} import {name} as {placeholder}")
+        roots[placeholder] = function
+    statements += [f"{key} = {value!r}" for key, value in sorted((constants or {}).items())]
+    if _BEGIN in text:
+        head, rest = text.split(_BEGIN, 1)
+        block, tail = rest.split(_END, 1)
+        body = head + _binding_block(_BEGIN + block + _END, statements) + tail
+    elif statements:
+        raise ValueError(f"{path.name} has no binding block ({_BEGIN!r} ... {_END!r})")
+    else:
+        body = text
+    identity = hashlib.sha256("\0".join([str(path), *statements, *sorted(imports)]).encode())
+    digest = hashlib.sha256("\0".join([body, *dependency_sources(roots)]).encode())
+    family = f"conslaw_kernel_{path.stem}_{identity.hexdigest()[:12]}"
+    module_name = f"{family}_{digest.hexdigest()[:16]}"
+    with _lock:
+        if module_name in _loaded:
+            return _loaded[module_name]
+        folder = cache_dir()
+        target = folder / f"{module_name}.py"
+        if not target.exists() or target.read_text() != body:
+            temporary = target.with_suffix(f".{os.getpid()}.{threading.get_ident()}.tmp")
+            temporary.write_text(body)
+            os.replace(temporary, target)
+            _prune(folder, family, keep=module_name)
+        spec = importlib.util.spec_from_file_location(module_name, target)
+        assert spec is not None and spec.loader is not None
+        module = importlib.util.module_from_spec(spec)
+        # numba's cache re-imports the module by name when it loads a cached function.
+        sys.modules[module_name] = module
+        try:
+            spec.loader.exec_module(module)
+        except BaseException:
+            del sys.modules[module_name]
+            raise
+        _loaded[module_name] = module
+        return module
 
 
 def _model_bindings(model_class: type[Model]) -> dict[str, Callable[..., Any]]:
@@ -255,6 +371,7 @@ def nt_kernels(
 def ft_kernels(
     model: Model, slope_point: Callable[..., Any], fill_left: Any, fill_right: Any
 ) -> ModuleType:
-    """The compiled front-tracking kernels: the NT kernels continued by ``ft_template.py``."""
-    bindings = _scheme_bindings(model, slope_point, fill_left, fill_right)
-    return generate("ft_template.py", bindings, _model_constants(model), base="nt_template.py")
+    """The compiled front-tracking kernels: ``ft_template.py`` calling the NT kernels of the
+    same model, reconstructor and boundary pair (:func:`nt_kernels`)."""
+    nt = nt_kernels(model, slope_point, fill_left, fill_right)
+    return generate("ft_template.py", {}, imports={"conslaw.kernels.nt_template": nt})

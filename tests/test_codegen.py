@@ -1,0 +1,203 @@
+"""Kernel generation (conslaw.kernels.codegen): what recompiles, line numbers, stale modules,
+threads."""
+
+from __future__ import annotations
+
+import importlib
+import os
+import subprocess
+import sys
+import textwrap
+import threading
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from conslaw import registry
+from conslaw.grid import Grid
+from conslaw.kernels import codegen
+from conslaw.kernels.codegen import dependency_sources, generate
+from conslaw.reconstruct import limiters
+
+TEMPLATE = """\
+import numpy as np
+from numba import njit
+
+# --- bindings ---
+from {package}.placeholder import twice as _twice
+
+SCALE = 1.0
+# --- end bindings ---
+
+
+@njit(cache=True)
+def apply(values):
+    out = np.empty_like(values)
+    for i in range(values.size):
+        out[i] = SCALE * _twice(values[i])
+    return out
+"""
+
+PHYSICS = """\
+from numba import njit
+
+
+@njit(cache=True)
+def twice(x):
+    return 2.0 * x
+"""
+
+
+@pytest.fixture
+def package(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> tuple[str, Path]:
+    """A throw-away package with the bound function (``physics``), an unrelated sibling module
+    (``other``) and a template, importable for the test's duration; kernels in ``tmp_path``."""
+    name = f"codegen_case_{os.getpid()}_{abs(hash(tmp_path)) % 10**8}"
+    folder = tmp_path / "src" / name
+    folder.mkdir(parents=True)
+    (folder / "__init__.py").write_text("")
+    (folder / "placeholder.py").write_text(PHYSICS)
+    (folder / "physics.py").write_text(PHYSICS)
+    (folder / "other.py").write_text("VALUE = 1\n")
+    (folder / "template.py").write_text(TEMPLATE.format(package=name))
+    monkeypatch.syspath_prepend(str(tmp_path / "src"))
+    monkeypatch.setenv("CONSLAW_CACHE_DIR", str(tmp_path / "kernels"))
+    return name, folder
+
+
+def generated(name: str, folder: Path) -> object:
+    """The kernel of the test template bound to ``physics.twice``, as the code is now."""
+    for module in [m for m in sys.modules if m.startswith(f"{name}.physics")]:
+        del sys.modules[module]
+    importlib.invalidate_caches()
+    physics = importlib.import_module(f"{name}.physics")
+    return generate(folder / "template.py", {"_twice": physics.twice}, {"SCALE": 3.0})
+
+
+def test_only_the_bound_source_recompiles(package: tuple[str, Path]) -> None:
+    """Appending to a module the compiled code does not reach keeps the module (and numba's
+    cache of it); appending to the bound function's file makes a new one and removes the old."""
+    name, folder = package
+    first = generated(name, folder)
+    np.testing.assert_array_equal(first.apply(np.array([1.0, 2.0])), [6.0, 12.0])
+    with (folder / "other.py").open("a") as handle:
+        handle.write("# a comment\n")
+    assert generated(name, folder).__name__ == first.__name__
+    with (folder / "physics.py").open("a") as handle:
+        handle.write("# a comment\n")
+    second = generated(name, folder)
+    assert second.__name__ != first.__name__
+    kernels = Path(os.environ["CONSLAW_CACHE_DIR"])
+    assert not (kernels / f"{first.__name__}.py").exists()
+    assert not list((kernels / "__pycache__").glob(f"{first.__name__}.*"))
+    np.testing.assert_array_equal(second.apply(np.array([1.0])), [6.0])
+
+
+def test_a_constant_the_bound_code_reads_is_part_of_the_key(package: tuple[str, Path]) -> None:
+    """numba freezes a global into the compiled code: a changed constant in a module the bound
+    function reads it from must change the kernel."""
+    name, folder = package
+    (folder / "physics.py").write_text(
+        PHYSICS.replace("2.0 * x", "FACTOR * x") + f"\n\nfrom {name}.other import VALUE as FACTOR\n"
+    )
+    first = generated(name, folder)
+    (folder / "other.py").write_text("VALUE = 5\n")
+    del sys.modules[f"{name}.other"]
+    second = generated(name, folder)
+    assert second.__name__ != first.__name__
+    np.testing.assert_array_equal(second.apply(np.array([1.0])), [15.0])
+
+
+def test_savage_hutter_kernel_depends_on_its_own_files_only() -> None:
+    """The NT kernel of Savage–Hutter covers the model's file and the compiled code it reaches,
+    not the CLI, another model or the folder around them."""
+    model = registry.models.get("savage-hutter")(phi=35.0, delta=30.0)
+    wall = registry.boundaries.get("wall")
+    bound = codegen._scheme_bindings(model, limiters.slope_mc, wall.fill_left, wall.fill_right)
+    files = {text.split("\0", 1)[0] for text in dependency_sources(bound) if "\0" in text}
+    names = {Path(file).name for file in files}
+    assert "savage_hutter.py" in names
+    assert "limiters.py" in names
+    assert not names & {"cli.py", "burgers.py", "shallow_water.py", "io.py", "config.py"}
+
+
+def test_generated_lines_are_the_template_lines() -> None:
+    """Outside the binding block (and the redirected import of the NT kernels in the FT
+    template), line i of every generated module is line i of its template."""
+    model = registry.models.get("savage-hutter")(phi=35.0, delta=30.0)
+    wall = registry.boundaries.get("wall")
+    left, right = wall.fill_left, wall.fill_right
+    nt = codegen.nt_kernels(model, limiters.slope_mc, left, right)
+    ft = codegen.ft_kernels(model, limiters.slope_mc, left, right)
+    arrays = codegen.model_array_kernels(model)
+    cases = ((nt, "nt_template.py"), (ft, "ft_template.py"), (arrays, "arrays_template.py"))
+    for module, template in cases:
+        generated_lines = Path(module.__file__).read_text().splitlines()
+        template_lines = (Path(codegen.__file__).parent / template).read_text().splitlines()
+        assert len(generated_lines) == len(template_lines), template
+        inside = False
+        pairs = zip(generated_lines, template_lines, strict=True)
+        for number, (ours, theirs) in enumerate(pairs, 1):
+            if theirs.startswith(codegen._BEGIN):
+                inside = True
+            if not inside and "conslaw.kernels.nt_template" not in theirs:
+                assert ours == theirs, (template, number)
+            if theirs.startswith(codegen._END):
+                inside = False
+
+
+def test_a_traceback_in_a_kernel_names_the_template_line(tmp_path: Path) -> None:
+    """Run as Python (NUMBA_DISABLE_JIT), an error inside a generated kernel is reported at the
+    template's own line number, with the template's text."""
+    script = textwrap.dedent(
+        """
+        import numpy as np
+        from conslaw import registry
+        from conslaw.kernels import codegen
+        from conslaw.reconstruct import limiters
+        model = registry.models.get("burgers")()
+        outflow = registry.boundaries.get("outflow")
+        left, right = outflow.fill_left, outflow.fill_right
+        kernels = codegen.nt_kernels(model, limiters.slope_mc, left, right)
+        kernels.copy_cells(np.zeros((1, 4)), np.zeros((1, 4)), 10)
+        """
+    )
+    environment = dict(os.environ, NUMBA_DISABLE_JIT="1", CONSLAW_CACHE_DIR=str(tmp_path))
+    done = subprocess.run(
+        [sys.executable, "-c", script], env=environment, capture_output=True, text=True
+    )
+    assert "IndexError" in done.stderr
+    frames = [line for line in done.stderr.splitlines() if "conslaw_kernel_nt_template" in line]
+    assert frames, done.stderr
+    number = int(frames[-1].split("line ")[1].split(",")[0])
+    template = (Path(codegen.__file__).parent / "nt_template.py").read_text().splitlines()
+    assert template[number - 1].strip() == "dst[v, col(i)] = src[v, col(i)]"
+
+
+def test_threads_generate_one_module(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    """Four threads asking for the same kernel at once get the same module, and it works."""
+    monkeypatch.setenv("CONSLAW_CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(codegen, "_loaded", {})
+    model = registry.models.get("burgers")()
+    periodic = registry.boundaries.get("periodic")
+    left, right = periodic.fill_left, periodic.fill_right
+    modules: list[object] = []
+    errors: list[BaseException] = []
+
+    def build() -> None:
+        try:
+            modules.append(codegen.nt_kernels(model, limiters.slope_minmod, left, right))
+        except BaseException as error:
+            errors.append(error)
+
+    threads = [threading.Thread(target=build) for _ in range(4)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    assert not errors
+    assert len({id(module) for module in modules}) == 1
+    assert len(list(tmp_path.glob("conslaw_kernel_nt_template_*.py"))) == 1
+    state = np.zeros((1, Grid(0.0, 1.0, 4).n_cells + 6))
+    modules[0].copy_cells(state, state, 4)
