@@ -17,6 +17,7 @@ Usage::
 
     python benchmarks/interleaved.py --baseline /path/to/other/.venv/bin/python [--rounds 5]
         [--sizes 10000,100000,1000000] [--json out.json]
+    python benchmarks/interleaved.py --baseline-tree /path/to/old/checkout ...
 
 Both sides need their own kernel cache (``CONSLAW_CACHE_DIR`` is set per side to
 ``<cache>/baseline`` and ``<cache>/current``, default under the system's temporary folder).
@@ -70,8 +71,17 @@ def child(sizes: list[int]) -> None:
     print(json.dumps(rows))
 
 
+#: Extra environment of each side (``PYTHONPATH`` of a baseline source tree, see main).
+SIDE_ENVIRONMENT: dict[str, dict[str, str]] = {}
+
+
+def side_environment(cache: Path) -> dict[str, str]:
+    """The environment of the side whose kernel cache is ``cache``."""
+    return {**os.environ, **SIDE_ENVIRONMENT.get(cache.name, {}), "CONSLAW_CACHE_DIR": str(cache)}
+
+
 def run_child(python: str, cache: Path, sizes: list[int]) -> list[dict[str, Any]]:
-    environment = {**os.environ, "CONSLAW_CACHE_DIR": str(cache)}
+    environment = side_environment(cache)
     output = subprocess.run(
         [python, __file__, "--child", "--sizes", ",".join(map(str, sizes))],
         capture_output=True, text=True, check=True, env=environment,
@@ -82,7 +92,7 @@ def run_child(python: str, cache: Path, sizes: list[int]) -> list[dict[str, Any]
 
 def whole_process(python: str, cache: Path, folder: Path) -> float:
     """Wall time of ``conslaw run sh-similarity --out folder`` with ``python``'s conslaw."""
-    environment = {**os.environ, "CONSLAW_CACHE_DIR": str(cache)}
+    environment = side_environment(cache)
     started = time.perf_counter()
     subprocess.run(
         [python, "-m", "conslaw.cli", "run", "sh-similarity", "--out", str(folder)],
@@ -94,6 +104,11 @@ def whole_process(python: str, cache: Path, folder: Path) -> float:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--baseline", help="the Python executable of the baseline version")
+    parser.add_argument(
+        "--baseline-tree",
+        help="a source checkout of the baseline, run with this Python (its conslaw and models "
+        "folders first on PYTHONPATH)",
+    )
     parser.add_argument("--rounds", type=int, default=5)
     parser.add_argument("--sizes", default="10000,100000,1000000")
     parser.add_argument("--cache", help="folder for the two kernel caches")
@@ -104,10 +119,19 @@ def main() -> None:
     if args.child:
         child(sizes)
         return
-    if not args.baseline:
-        parser.error("--baseline is required")
+    if not args.baseline and not args.baseline_tree:
+        parser.error("--baseline or --baseline-tree is required")
     root = Path(args.cache) if args.cache else Path(tempfile.gettempdir()) / "conslaw-interleaved"
-    sides = {"baseline": args.baseline, "current": sys.executable}
+    sides = {"baseline": args.baseline or sys.executable, "current": sys.executable}
+    if args.baseline_tree:
+        shim = root / "baseline-packages"
+        shim.mkdir(parents=True, exist_ok=True)
+        for name, folder in (("conslaw", "conslaw"), ("conslaw_models", "models")):
+            link = shim / name
+            if link.is_symlink():
+                link.unlink()
+            link.symlink_to(Path(args.baseline_tree).resolve() / folder)
+        SIDE_ENVIRONMENT["baseline"] = {"PYTHONPATH": str(shim)}
     caches = {side: root / side for side in sides}
     for side, python in sides.items():  # compile every kernel once, outside the timing
         run_child(python, caches[side], sizes)

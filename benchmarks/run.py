@@ -44,8 +44,8 @@ import numpy as np
 
 import conslaw
 from conslaw.analysis import error_norms
-from conslaw.convergence import convergence_study
 from conslaw.simulation import build, simulate
+from conslaw.studies.convergence import convergence_study
 
 REPEATS = 3
 PROCESS_REPEATS = 5

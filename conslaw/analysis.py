@@ -21,7 +21,7 @@ class ErrorNorms:
 
 
 def error_norms(numerical: Array, exact: Array, dx: float, length: float) -> ErrorNorms:
-    """The reference §6 norms of ``numerical - exact`` (both cell averages).
+    """The norms (docs/equations.md, "Error norms") of ``numerical - exact`` (both cell averages).
 
     ``L1 = (1/L) sum |q_i - qbar_i| dx``, ``L2 = sqrt((1/L) sum (q_i - qbar_i)^2 dx)``,
     ``Linf = max |q_i - qbar_i|``.

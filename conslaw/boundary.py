@@ -23,7 +23,7 @@ if TYPE_CHECKING:
 
 
 @njit(cache=True)
-def periodic_left(w, n, ng, staggered, data):  # type: ignore[no-untyped-def]
+def periodic_left(w, n, ng, staggered, data):
     """Left ghosts copy the last cells (period n on either family)."""
     for g in range(1, ng + 1):
         for v in range(w.shape[0]):
@@ -31,7 +31,7 @@ def periodic_left(w, n, ng, staggered, data):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def periodic_right(w, n, ng, staggered, data):  # type: ignore[no-untyped-def]
+def periodic_right(w, n, ng, staggered, data):
     """Right ghosts copy the first cells."""
     for g in range(1, ng + 1):
         for v in range(w.shape[0]):
@@ -39,7 +39,7 @@ def periodic_right(w, n, ng, staggered, data):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def outflow_left(w, n, ng, staggered, data):  # type: ignore[no-untyped-def]
+def outflow_left(w, n, ng, staggered, data):
     """Zero gradient: left ghosts copy the first cell."""
     for g in range(1, ng + 1):
         for v in range(w.shape[0]):
@@ -47,7 +47,7 @@ def outflow_left(w, n, ng, staggered, data):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def outflow_right(w, n, ng, staggered, data):  # type: ignore[no-untyped-def]
+def outflow_right(w, n, ng, staggered, data):
     """Zero gradient: right ghosts copy the last cell."""
     for g in range(1, ng + 1):
         for v in range(w.shape[0]):
@@ -55,7 +55,7 @@ def outflow_right(w, n, ng, staggered, data):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def wall_left(w, n, ng, staggered, data):  # type: ignore[no-untyped-def]
+def wall_left(w, n, ng, staggered, data):
     """Mirror image across the left boundary, ``data[v]`` = sign of variable v (momentum -1)."""
     for g in range(1, ng + 1):
         source = ng + g if staggered else ng + g - 1
@@ -64,7 +64,7 @@ def wall_left(w, n, ng, staggered, data):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def wall_right(w, n, ng, staggered, data):  # type: ignore[no-untyped-def]
+def wall_right(w, n, ng, staggered, data):
     """Mirror image across the right boundary."""
     for g in range(1, ng + 1):
         source = ng + n - 1 - g if staggered else ng + n - g
@@ -73,7 +73,7 @@ def wall_right(w, n, ng, staggered, data):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def inflow_left(w, n, ng, staggered, data):  # type: ignore[no-untyped-def]
+def inflow_left(w, n, ng, staggered, data):
     """Left ghosts hold the fixed state ``data``."""
     for g in range(1, ng + 1):
         for v in range(w.shape[0]):
@@ -81,7 +81,7 @@ def inflow_left(w, n, ng, staggered, data):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def inflow_right(w, n, ng, staggered, data):  # type: ignore[no-untyped-def]
+def inflow_right(w, n, ng, staggered, data):
     """Right ghosts hold the fixed state ``data``."""
     for g in range(1, ng + 1):
         for v in range(w.shape[0]):
@@ -94,7 +94,7 @@ PERIODIC, OUTFLOW, WALL, INFLOW = 0, 1, 2, 3
 
 
 @njit(cache=True)
-def builtin_left(w, n, ng, staggered, data):  # type: ignore[no-untyped-def]
+def builtin_left(w, n, ng, staggered, data):
     """Left ghosts of a built-in condition: ``data[0]`` is its kind code, ``data[1:]`` its data."""
     kind = int(data[0])
     payload = data[1:]
@@ -109,7 +109,7 @@ def builtin_left(w, n, ng, staggered, data):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def builtin_right(w, n, ng, staggered, data):  # type: ignore[no-untyped-def]
+def builtin_right(w, n, ng, staggered, data):
     """Right ghosts of a built-in condition (see :func:`builtin_left`)."""
     kind = int(data[0])
     payload = data[1:]

@@ -7,6 +7,7 @@ Errors in the input become one line on stderr and exit code 2, without a traceba
 from __future__ import annotations
 
 import argparse
+import functools
 import sys
 import time
 from collections.abc import Sequence
@@ -132,7 +133,7 @@ class _SignalLatch:
 
 def _command_run(args: argparse.Namespace) -> int:
     from conslaw.config import load_scene
-    from conslaw.figure_worker import FigureWorker
+    from conslaw.figure_worker import FigureWorker, write_figures
     from conslaw.io import RunWriter, check_output_dir
 
     scene = load_scene(args.scene, _overrides(args.set))
@@ -145,7 +146,8 @@ def _command_run(args: argparse.Namespace) -> int:
     # Fork the figure child before the kernels load (matplotlib's import overlaps the solve).
     worker = FigureWorker.start() if scene.plot else None
     try:
-        return _run_scene(scene, out, RunWriter(out, scene, worker))
+        figures = functools.partial(write_figures, worker=worker)
+        return _run_scene(scene, out, RunWriter(out, scene, figures))
     finally:
         if worker is not None:
             worker.close()
@@ -229,9 +231,9 @@ def _names(text: str | None) -> list[str] | None:
 
 
 def _command_convergence(args: argparse.Namespace) -> int:
-    from conslaw.convergence import convergence_study, write_study
     from conslaw.errors import ConfigError
     from conslaw.io import prepare_output_dir
+    from conslaw.studies.convergence import convergence_study, write_study
 
     try:
         cells = [int(part) for part in args.cells.split(",") if part.strip()]
@@ -254,7 +256,7 @@ def _command_convergence(args: argparse.Namespace) -> int:
 
 def _command_reproduce(args: argparse.Namespace) -> int:
     from conslaw.io import check_output_dir
-    from conslaw.reproduce import reproduce_paper
+    from conslaw.studies.reproduce import reproduce_paper
 
     out = Path(args.out) if args.out else Path("conslaw-output") / "paper"
     check_output_dir(out)
@@ -267,9 +269,9 @@ def _command_reproduce(args: argparse.Namespace) -> int:
 
 
 def _command_compare(args: argparse.Namespace) -> int:
-    from conslaw.comparison import compare, write_comparison
     from conslaw.errors import ConfigError
     from conslaw.io import check_output_dir
+    from conslaw.studies.comparison import compare, write_comparison
 
     schemes = _names(args.scheme) or []
     if not schemes:

@@ -51,13 +51,15 @@ KEY_HELP: dict[str, str] = {
     "description": "one line shown by `conslaw list`",
     "model": "registered model name (`conslaw list`)",
     "parameters": "model parameters; a relative *_file path is looked up next to the scene first",
-    "scheme": "registered scheme name: nessyahu-tadmor, lagrangian (`conslaw list`)",
+    "scheme": "registered scheme name (`conslaw list`; built in: nessyahu-tadmor, "
+    "front-tracking, lagrangian)",
     "scheme_options": "table of the options the scheme declares (lagrangian: viscosity, "
     "pressure; see Scheme options below)",
-    "reconstructor": "slope reconstruction (nessyahu-tadmor): none, minmod, superbee, vanleer, "
-    "mc, weno3, weno5",
+    "reconstructor": "registered slope reconstruction of the central schemes (`conslaw list`; "
+    "built in: none, minmod, superbee, vanleer, mc, weno3, weno5)",
     "cfl": "target Courant number, 0 < cfl < 0.5 (paper eq. 17; lagrangian: its time-step factor)",
-    "front_tracking": "track the margins of the body (NOC-FT, nessyahu-tadmor, models with depth)",
+    "front_tracking": 'true: the front-tracking scheme (the same as scheme = "front-tracking"; '
+    "NOC-FT, models with depth)",
     "n_cells": "number of cells, integer >= 4",
     "x_min": "left end of the domain",
     "x_max": "right end of the domain",
@@ -337,11 +339,14 @@ def validate(name: str, raw: Mapping[str, Any], folder: Path | None = None) -> S
         raise ConfigError(
             f"scene key 'front_tracking': expected true or false, got {front_tracking!r}"
         )
-    if front_tracking and scheme != "nessyahu-tadmor":
+    if front_tracking and scheme == "nessyahu-tadmor":
+        scheme = "front-tracking"  # how earlier scene files chose front tracking
+    elif front_tracking and scheme != "front-tracking":
         raise ConfigError(
-            f"scene key 'front_tracking': an option of the nessyahu-tadmor scheme, not of "
-            f"'{scheme}'"
+            f"scene key 'front_tracking': front tracking is the scheme 'front-tracking' (write "
+            f"scheme = \"front-tracking\"), it cannot be combined with '{scheme}'"
         )
+    front_tracking = scheme == "front-tracking"
     if not isinstance(table["exact"], bool):
         raise ConfigError(f"scene key 'exact': expected true or false, got {table['exact']!r}")
     max_steps = table["max_steps"]

@@ -23,7 +23,8 @@ class ExactSolution(ABC):
     def cell_averages(self, edges: Array, t: float) -> Array:
         """Exact averages over the cells ``[edges[i], edges[i+1]]``, shape ``(n_vars, n)``.
 
-        Integrated exactly, splitting at the kinks of the solution (reference §6 error norm).
+        Integrated exactly, splitting at the kinks of the solution (docs/equations.md, "Error
+        norms").
         """
 
     @abstractmethod

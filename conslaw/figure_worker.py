@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:
     from multiprocessing.process import BaseProcess
 
-    from conslaw.simulation import RunResult
+    from conslaw.result import RunResult
 
 #: Seconds the parent waits for the child to exit once its work is done.
 JOIN_SECONDS = 5.0
@@ -108,9 +108,9 @@ def _serve(connection: Connection, parent_end: Connection) -> None:
             return
         result, folder_name = job
         folder = Path(folder_name)
-        from conslaw.io import draw_figures
+        from conslaw import plotting
 
-        connection.send(("ok", draw_figures(result, folder)))
+        connection.send(("ok", plotting.draw_figures(result, folder)))
     except _StoppedError:
         _remove_temporary_files(folder)
     except (EOFError, BrokenPipeError):
@@ -194,3 +194,20 @@ class FigureWorker:
         self.connection.close()
         self.process.terminate()
         self.process.join(JOIN_SECONDS)
+
+
+def write_figures(
+    result: RunResult, folder: Path, worker: FigureWorker | None = None
+) -> list[Path]:
+    """``profiles.png``; with front tracking ``margins.png``; on a chute ``chute.png``; with at
+    least :data:`conslaw.plotting.XT_MIN_OUTPUTS` output times ``xt.png`` (x–t diagram).
+
+    Drawn by ``worker`` if one is given and it succeeds, else in this process
+    (:func:`conslaw.plotting.draw_figures`)."""
+    if worker is not None:
+        written = worker.draw(result, folder)
+        if written is not None:
+            return written
+    from conslaw import plotting
+
+    return plotting.draw_figures(result, folder)

@@ -45,7 +45,7 @@ import signal
 import tempfile
 import threading
 import xml.etree.ElementTree as ET
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -59,10 +59,11 @@ from conslaw.state import node_arrays
 
 if TYPE_CHECKING:
     from conslaw.config import Scene
-    from conslaw.figure_worker import FigureWorker
-    from conslaw.simulation import RunResult
+    from conslaw.result import RunResult
 
 Array = NDArray[np.float64]
+#: Writes a run's figures into a folder and returns their paths.
+FigureWriter = Callable[["RunResult", Path], list[Path]]
 
 #: File stem of the time-series files (``solution.xdmf``, ``solution-00003.vtu``, ...).
 SERIES = "solution"
@@ -178,7 +179,7 @@ def cell_fields(result: RunResult, index: int) -> dict[str, Array]:
     fields: dict[str, Array] = {name: state.q[v] for v, name in enumerate(model.variables)}
     for name, values in model.primitive_fields(state.q).items():
         fields.setdefault(name, values)
-    coefficients = result.scheme.cell_coefficients(state)
+    coefficients = result.coefficients[index]
     for name, values in model.coefficient_fields(state.x, coefficients).items():
         fields.setdefault(name, values)
     exact = result.exact[index]
@@ -380,16 +381,14 @@ class RunWriter:
     Pass it as ``on_output`` to :func:`conslaw.simulation.simulate` and call :meth:`finish` at
     the end (figures, removal of series files an earlier run left behind). The folder is made
     with the first output, so a run that fails before writes nothing. See the module docstring
-    for the files of every format. A ``figure_worker`` (:mod:`conslaw.figure_worker`) draws the
-    figures if one is given.
+    for the files of every format. ``figures(result, folder)`` writes the figures and returns
+    their paths (with ``output.plot``; e.g. :func:`conslaw.figure_worker.write_figures`).
     """
 
-    def __init__(
-        self, folder: Path, scene: Scene, figure_worker: FigureWorker | None = None
-    ) -> None:
+    def __init__(self, folder: Path, scene: Scene, figures: FigureWriter | None = None) -> None:
         self.folder = Path(folder)
         self.scene = scene
-        self.figure_worker = figure_worker
+        self.figures = figures
         self.formats = scene.output_formats
         self.last_time: float | None = None
         self._files: dict[Path, None] = {}
@@ -468,8 +467,8 @@ class RunWriter:
             return []
         with signals_held():
             self.history(result, final=True)
-        if self.scene.plot:
-            for path in write_figures(result, self.folder, self.figure_worker):
+        if self.scene.plot and self.figures is not None:
+            for path in self.figures(result, self.folder):
                 self._wrote(path)
         for entry in self.folder.iterdir():
             if _OWN_FILE.match(entry.name) and entry not in self._files:
@@ -477,39 +476,11 @@ class RunWriter:
         return self.files
 
 
-def write_figures(
-    result: RunResult, folder: Path, worker: FigureWorker | None = None
-) -> list[Path]:
-    """``profiles.png``; with front tracking ``margins.png``; on a chute ``chute.png``; with at
-    least :data:`conslaw.plotting.XT_MIN_OUTPUTS` output times ``xt.png`` (x–t diagram).
-
-    Drawn by ``worker`` (:mod:`conslaw.figure_worker`, matplotlib already imported there) if
-    one is given and it succeeds, else in this process."""
-    if worker is not None:
-        written = worker.draw(result, folder)
-        if written is not None:
-            return written
-    return draw_figures(result, folder)
-
-
-def draw_figures(result: RunResult, folder: Path) -> list[Path]:
-    """The figures of :func:`write_figures`, drawn in this process."""
-    import matplotlib.pyplot as plt
-
-    from conslaw.plotting import figures_for
-
-    written = []
-    for name, build in figures_for(result):
-        figure = build(result)
-        written.append(write_figure(folder / name, figure))
-        plt.close(figure)
-    return written
-
-
-def write_run(result: RunResult, folder: Path) -> list[Path]:
+def write_run(result: RunResult, folder: Path, figures: FigureWriter | None = None) -> list[Path]:
     """Write every file of a finished run at once (what :class:`RunWriter` writes during a
-    run): the formats of ``output.formats``, the resolved scene and the figures."""
-    writer = RunWriter(folder, result.scene)
+    run): the formats of ``output.formats``, the resolved scene and (with ``figures``) the
+    figures."""
+    writer = RunWriter(folder, result.scene, figures)
     for index in range(len(result.states)):
         writer.output(result, index)
     return writer.finish(result)

@@ -22,19 +22,32 @@ from __future__ import annotations
 import dataclasses
 from abc import ABC
 from collections.abc import Callable, Mapping
-from typing import TYPE_CHECKING, Any, ClassVar
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, ClassVar, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 
+from conslaw import pointwise
 from conslaw.errors import ConfigError, unknown_name_message
+from conslaw.kernelgen import generate
 
 if TYPE_CHECKING:
     from conslaw.exact import ExactSolution
     from conslaw.grid import Grid
-    from conslaw.initial import InitialCondition
 
 Array = NDArray[np.float64]
+
+
+class InitialData(Protocol):
+    """What an exact solution reads of a scene's initial condition
+    (:class:`conslaw.initial.InitialCondition`): its kind and options."""
+
+    @property
+    def kind(self) -> str: ...
+
+    @property
+    def options(self) -> Mapping[str, Any]: ...
 
 
 @dataclasses.dataclass(frozen=True)
@@ -231,12 +244,65 @@ class Model(ABC):
         """The parameters as a plain dictionary (for the resolved scene file)."""
         return dataclasses.asdict(self.params)
 
+    # ------------------------------------------------------------------ compiled kernels
+    #: The hooks a kernel template binds, by placeholder name (``_<hook>``).
+    KERNEL_HOOKS: ClassVar[tuple[str, ...]] = (
+        "flux_point", "jacobian_point", "max_speed_point", "source_point", "admissible_point",
+        "balanced_source_point", "correct_point", "resistance_point", "coefficients_point",
+        "interface_coefficients_point", "rest_coefficients_point",
+    )  # fmt: skip
+
+    def kernel_bindings(self) -> dict[str, Callable[..., Any]]:
+        """The model's pointwise functions under the placeholder names of the kernel templates
+        (``_flux_point``, ...). A hook the model does not have is bound to a stand-in of
+        :mod:`conslaw.pointwise` that the matching constant of :meth:`kernel_constants` leaves
+        uncalled; without its own admissibility, a model's states are admissible when finite."""
+        model_class = type(self)
+        bindings: dict[str, Callable[..., Any]] = {}
+        for hook in self.KERNEL_HOOKS:
+            default = pointwise.finite_point if hook == "admissible_point" else pointwise.unbound
+            bindings[f"_{hook}"] = getattr(model_class, hook, None) or default
+        return bindings
+
+    def kernel_constants(self) -> dict[str, bool | int | float]:
+        """The compile-time constants of the model in a kernel: sizes, which hooks it uses
+        (``HAS_*``, dead branches are removed) and the rows and depth of a depth-averaged model."""
+        uses = self.capabilities()
+        bed, bed_slope = self.surface_aux if uses["surface"] and self.surface_aux else (-1, -1)
+        depth = self.depth_index
+        return {
+            "NV": int(self.n_vars),
+            "NAUX": int(self.n_aux),
+            "NPARAMS": len(self.param_vector()),
+            "HAS_SOURCE": uses["source"],
+            "HAS_BALANCED_SOURCE": uses["balanced_source"],
+            "HAS_CORRECTION": uses["correction"],
+            "HAS_RESISTANCE": uses["resistance"],
+            "HAS_DYNAMIC_COEFFICIENTS": uses["dynamic_coefficients"],
+            "HAS_INTERFACE_COEFFICIENTS": uses["interface_coefficients"],
+            "HAS_REST_COEFFICIENTS": uses["rest_coefficients"],
+            "DEPTH": -1 if depth is None else int(depth),
+            "MOMENTUM": -1 if self.momentum_index is None else int(self.momentum_index),
+            "DRY_DEPTH": float(self.dry_depth()),
+            "SURFACE_BED": int(bed),
+            "SURFACE_SLOPE": int(bed_slope),
+        }
+
     # ------------------------------------------------------------------ derived array methods
     def _compiled_arrays(self) -> Any:
+        """Compiled loops over the cells of the pointwise functions (``array_kernels_template``)."""
         if self._arrays is None:
-            from conslaw.kernels.codegen import model_array_kernels
-
-            self._arrays = model_array_kernels(self)
+            constants = self.kernel_constants()
+            keys = (
+                "NV", "NAUX", "HAS_SOURCE", "HAS_BALANCED_SOURCE", "HAS_CORRECTION",
+                "HAS_RESISTANCE", "HAS_DYNAMIC_COEFFICIENTS", "HAS_INTERFACE_COEFFICIENTS",
+                "HAS_REST_COEFFICIENTS",
+            )  # fmt: skip
+            self._arrays = generate(
+                Path(__file__).with_name("array_kernels_template.py"),
+                self.kernel_bindings(),
+                {key: constants[key] for key in keys},
+            )
         return self._arrays
 
     def _prepare(self, q: Array, aux: Array | None) -> tuple[Array, Array]:
@@ -341,7 +407,7 @@ class Model(ABC):
 
     # ------------------------------------------------------------------ exact solutions
     def exact_solution(
-        self, initial: InitialCondition, grid: Grid, context: Mapping[str, Any]
+        self, initial: InitialData, grid: Grid, context: Mapping[str, Any]
     ) -> ExactSolution | None:
         """The exact solution for this set-up, or None if the model has none.
 

@@ -12,8 +12,12 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+from conslaw.io import write_figure
+
 if TYPE_CHECKING:
-    from conslaw.simulation import RunResult
+    from pathlib import Path
+
+    from conslaw.result import RunResult
 
 
 def _display_rows(model: Any, q: Any) -> list[tuple[str, Any]]:
@@ -259,3 +263,14 @@ def figures_for(result: RunResult) -> list[tuple[str, Callable[[RunResult], Any]
     if len(result.states) >= XT_MIN_OUTPUTS:
         figures.append(("xt.png", xt_figure))
     return figures
+
+
+def draw_figures(result: RunResult, folder: Path) -> list[Path]:
+    """The figures of :func:`figures_for`, drawn in this process and written atomically
+    (:func:`conslaw.io.write_figure`); returns their paths."""
+    written = []
+    for name, build in figures_for(result):
+        figure = build(result)
+        written.append(write_figure(folder / name, figure))
+        plt.close(figure)
+    return written

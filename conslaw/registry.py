@@ -113,7 +113,7 @@ class Registry(Generic[T]):
 # ---------------------------------------------------------------------- contract checks
 def check_model(name: str, obj: Any) -> type[Model]:
     """A model must subclass Model, name its variables and provide module-level kernels."""
-    from conslaw.kernels.codegen import import_path
+    from conslaw.kernelgen.generation import import_path
 
     if not (isinstance(obj, type) and issubclass(obj, Model)):
         raise ContractError(f"model '{name}' must be a subclass of conslaw.model.Model")
@@ -159,7 +159,7 @@ def check_scheme(name: str, obj: Any) -> type[Scheme]:
 
 def check_reconstructor(name: str, obj: Any) -> Reconstructor:
     """A reconstructor is a Reconstructor whose slope function is module-level compiled code."""
-    from conslaw.kernels.codegen import import_path
+    from conslaw.kernelgen.generation import import_path
 
     if callable(obj) and not isinstance(obj, Reconstructor):
         obj = obj()
@@ -174,7 +174,7 @@ def check_reconstructor(name: str, obj: Any) -> Reconstructor:
 
 def check_boundary(name: str, obj: Any) -> BoundaryCondition:
     """A boundary condition provides module-level compiled fill functions."""
-    from conslaw.kernels.codegen import import_path
+    from conslaw.kernelgen.generation import import_path
 
     if callable(obj) and not isinstance(obj, BoundaryCondition):
         obj = obj()
@@ -199,10 +199,11 @@ def check_scene(name: str, obj: Any) -> Path:
 
 
 def _builtin_schemes() -> list[tuple[str, Any]]:
-    from conslaw.schemes.lagrangian import LagrangianScheme
-    from conslaw.schemes.nessyahu_tadmor import NessyahuTadmor
+    from conslaw.schemes.front_tracking.scheme import FrontTrackingNT
+    from conslaw.schemes.lagrangian.scheme import LagrangianScheme
+    from conslaw.schemes.nessyahu_tadmor.scheme import NessyahuTadmor
 
-    return [(NessyahuTadmor.name, NessyahuTadmor), (LagrangianScheme.name, LagrangianScheme)]
+    return [(scheme.name, scheme) for scheme in (NessyahuTadmor, FrontTrackingNT, LagrangianScheme)]
 
 
 def _builtin_scenes() -> list[tuple[str, Any]]:

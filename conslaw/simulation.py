@@ -5,7 +5,6 @@ from __future__ import annotations
 import signal
 import time
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -13,66 +12,17 @@ import numpy as np
 from numpy.typing import NDArray
 
 from conslaw import registry
-from conslaw.analysis import ErrorNorms, error_norms, total_mass
+from conslaw.analysis import error_norms, total_mass
 from conslaw.config import Scene, load_scene
 from conslaw.errors import ConfigError, RunInterrupted, SchemeBreakdownError, StepLimitError
 from conslaw.exact import ExactSolution, Unavailable
 from conslaw.grid import Grid
 from conslaw.model import Model
+from conslaw.result import RunResult
 from conslaw.schemes.base import BoundarySpec, ProgressCallback, Scheme
 from conslaw.state import State
 
 Array = NDArray[np.float64]
-
-
-@dataclass
-class RunResult:
-    """Everything a run produced.
-
-    Attributes
-    ----------
-    states : list of State
-        The solution at every output time (primary grid).
-    exact : list of ndarray or None
-        Exact cell averages at the same times (None without an exact solution).
-    errors : list of ErrorNorms or None
-        Reference §6 norms of variable 0 against the exact cell averages.
-    steps : int
-        Time steps taken.
-    solve_seconds : float
-        Wall time of the time loop (set-up, compilation and output excluded).
-    mass_drift : ndarray
-        Relative change of the total of every conserved variable from t=0 to the end.
-    margins : ndarray or None
-        With front tracking: rows ``t, x_rear, u_rear, x_front, u_front`` after every step.
-    """
-
-    scene: Scene
-    model: Model
-    grid: Grid
-    scheme: Scheme
-    initial: State
-    states: list[State]
-    exact_solution: ExactSolution | None
-    exact: list[Array | None]
-    errors: list[ErrorNorms | None]
-    steps: int
-    solve_seconds: float
-    mass_drift: Array
-    compile_seconds: float = 0.0
-    exact_note: str | None = None
-    margins: Array | None = None
-    files: list[Path] = field(default_factory=list)
-
-    @property
-    def final(self) -> State:
-        """The state at ``t_end``."""
-        return self.states[-1]
-
-    def headline_error(self) -> float | None:
-        """L1 error of variable 0 at ``t_end`` against the exact cell averages (None if unknown)."""
-        error = self.errors[-1]
-        return None if error is None else error.l1
 
 
 def build(scene: Scene) -> tuple[Model, Grid, Scheme, State, ExactSolution | None]:
@@ -90,10 +40,6 @@ def _build(
     left = BoundarySpec(registry.boundaries.get(scene.left.kind), scene.left.options)
     right = BoundarySpec(registry.boundaries.get(scene.right.kind), scene.right.options)
     scheme_class = registry.schemes.get(scene.scheme)
-    if scene.front_tracking:
-        from conslaw.schemes.front_tracking import FrontTrackingNT
-
-        scheme_class = FrontTrackingNT
     scheme = scheme_class(
         model,
         registry.reconstructors.get(scene.reconstructor),
@@ -236,6 +182,7 @@ def _record(result: RunResult, state: State, margin_rows: list[Array]) -> None:
     if result.exact_solution is not None:
         exact = result.exact_solution.cell_averages(grid.edges, state.t)
     result.states.append(state)
+    result.coefficients.append(result.scheme.cell_coefficients(state))
     result.exact.append(exact)
     result.errors.append(
         None if exact is None else error_norms(state.q[0], exact[0], grid.dx, grid.length)
@@ -279,10 +226,11 @@ def run(
         resolved = load_scene(scene, _flatten(overrides))
     if out is None:
         return simulate(resolved, progress)
+    from conslaw.figure_worker import write_figures
     from conslaw.io import RunWriter, check_output_dir
 
     check_output_dir(Path(out))
-    writer = RunWriter(Path(out), resolved)
+    writer = RunWriter(Path(out), resolved, write_figures)
     result = simulate(resolved, progress, writer)
     result.files = writer.finish(result)
     return result

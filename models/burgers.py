@@ -9,25 +9,24 @@ from numba import njit
 
 from conslaw.exact import ExactSolution, Unavailable
 from conslaw.grid import Grid
-from conslaw.initial import InitialCondition
-from conslaw.model import Model
+from conslaw.model import InitialData, Model
 from conslaw_models.burgers_exact import BurgersRiemannFans, BurgersSmoothSine
 
 
 @njit(cache=True)
-def flux_point(q, aux, params, out):  # type: ignore[no-untyped-def]
+def flux_point(q, aux, params, out):
     """``f(u) = u^2 / 2``."""
     out[0] = 0.5 * q[0] * q[0]
 
 
 @njit(cache=True)
-def jacobian_point(q, aux, params, out):  # type: ignore[no-untyped-def]
+def jacobian_point(q, aux, params, out):
     """``f'(u) = u``."""
     out[0, 0] = q[0]
 
 
 @njit(cache=True)
-def max_speed_point(q, aux, params):  # type: ignore[no-untyped-def]
+def max_speed_point(q, aux, params):
     """``|f'(u)| = |u|``."""
     return abs(q[0])
 
@@ -37,7 +36,7 @@ class Burgers(Model):
 
     Exact solutions: separated Riemann problems (shock, rarefaction, transonic rarefaction) for
     piecewise-constant data, and the smooth solution of ``u0 = a + b sin(2 pi k x / L)`` before it
-    breaks (reference §5).
+    breaks (docs/equations.md, "Exact solutions").
     """
 
     name = "burgers"
@@ -50,7 +49,7 @@ class Burgers(Model):
     max_speed_point = staticmethod(max_speed_point)
 
     def exact_solution(
-        self, initial: InitialCondition, grid: Grid, context: Mapping[str, Any]
+        self, initial: InitialData, grid: Grid, context: Mapping[str, Any]
     ) -> ExactSolution | None:
         """Separated Riemann problems (open boundaries, no wave reaching them or each other by
         ``t_end``), or the sine wave before it breaks (periodic); else None or Unavailable."""

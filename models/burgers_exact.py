@@ -1,4 +1,5 @@
-"""Exact solutions of the inviscid Burgers equation (reference §5), as exact cell averages."""
+"""Exact solutions of the inviscid Burgers equation (docs/equations.md, "Exact solutions"), as exact
+cell averages."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ from numpy.typing import NDArray
 from conslaw.errors import ConfigError
 from conslaw.exact import ExactSolution
 from conslaw.grid import Grid
-from conslaw.initial import InitialCondition
+from conslaw.model import InitialData
 
 Array = NDArray[np.float64]
 
@@ -29,7 +30,7 @@ class BurgersRiemannFans(ExactSolution):
     values: tuple[float, ...]
 
     @classmethod
-    def from_initial(cls, initial: InitialCondition, grid: Grid) -> BurgersRiemannFans:
+    def from_initial(cls, initial: InitialData, grid: Grid) -> BurgersRiemannFans:
         """From a ``piecewise-constant`` initial condition with one variable."""
         states = initial.options["states"]
         return cls(
@@ -120,7 +121,7 @@ class BurgersSmoothSine(ExactSolution):
     length: float
 
     @classmethod
-    def from_initial(cls, initial: InitialCondition, grid: Grid) -> BurgersSmoothSine:
+    def from_initial(cls, initial: InitialData, grid: Grid) -> BurgersSmoothSine:
         """From a ``sine`` initial condition."""
         o = initial.options
         return cls(

@@ -1,7 +1,8 @@
 """Chute geometry in chute-fitted coordinates: inclination ``zeta(x)`` and ``lambda kappa(x)``.
 
 ``x`` is the arc length along the bed (downslope), ``zeta`` the inclination angle (positive where
-the bed descends in +x), and ``lambda kappa = -d zeta / dx`` the scaled curvature (reference §1).
+the bed descends in +x), and ``lambda kappa = -d zeta / dx`` the scaled curvature (docs/design.md,
+"Savage–Hutter specifics").
 
 Three kinds:
 

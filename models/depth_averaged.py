@@ -20,20 +20,20 @@ DRY = 1
 
 
 @njit(cache=True)
-def velocity(h, m, dry_tolerance):  # type: ignore[no-untyped-def]
+def velocity(h, m, dry_tolerance):
     """``u = m / h``, and 0 in a dry cell (``h < dry_tolerance``)."""
     return m / h if h >= dry_tolerance and h > 0.0 else 0.0
 
 
 @njit(cache=True)
-def correct_point(q, aux, params, dt):  # type: ignore[no-untyped-def]
+def correct_point(q, aux, params, dt):
     """A dry cell holds no momentum."""
     if q[0] < params[DRY]:
         q[1] = 0.0
 
 
 @njit(cache=True)
-def admissible_point(q, aux, params):  # type: ignore[no-untyped-def]
+def admissible_point(q, aux, params):
     """Finite, ``h >= 0``, and no momentum in a dry cell."""
     if not (np.isfinite(q[0]) and np.isfinite(q[1])):
         return False

@@ -6,7 +6,8 @@
 
 with ``K = K_act`` where the flow extends (``du/dx > 0``) and ``K_pass`` where it contracts
 (eqs. 5–6). Coulomb friction is set-valued at ``u = 0``: it can hold material at rest but never
-accelerate or reverse it (reference §1). The NT kernel integrates the driving force ``h sin zeta``
+accelerate or reverse it (docs/design.md, "Savage–Hutter specifics"). The NT kernel integrates the
+driving force ``h sin zeta``
 and the friction magnitude ``h tan delta (cos zeta + lambda kappa u^2)`` at the same quarter points
 (eqs. 13–14) and applies the friction with the stopping rule
 ``m = 0 if |m*| <= dt F else m* - sgn(m*) dt F``.
@@ -26,7 +27,7 @@ from numpy.typing import NDArray
 from conslaw.errors import ConfigError, finite_number
 from conslaw.exact import ExactSolution, Unavailable, piecewise_cell_averages
 from conslaw.grid import Grid
-from conslaw.initial import InitialCondition
+from conslaw.model import InitialData
 from conslaw_models.chute import CHUTE_KINDS, Chute, PlaneChute, make_chute
 from conslaw_models.depth_averaged import DRY, DepthAveragedModel, velocity
 from conslaw_models.savage_hutter_exact import InclinedDamBreak, SimilaritySolution
@@ -53,7 +54,7 @@ def earth_pressure_coefficients(phi: float, delta: float) -> tuple[float, float]
 
 
 @njit(cache=True)
-def flux_point(q, aux, params, out):  # type: ignore[no-untyped-def]
+def flux_point(q, aux, params, out):
     """``f = (m, m u + beta h^2 / 2)``, ``beta = eps cos zeta K`` (eq. 8)."""
     h = q[0]
     u = velocity(h, q[1], params[DRY])
@@ -63,7 +64,7 @@ def flux_point(q, aux, params, out):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def jacobian_point(q, aux, params, out):  # type: ignore[no-untyped-def]
+def jacobian_point(q, aux, params, out):
     """``A = [[0, 1], [beta h - u^2, 2 u]]``."""
     u = velocity(q[0], q[1], params[DRY])
     out[0, 0] = 0.0
@@ -73,7 +74,7 @@ def jacobian_point(q, aux, params, out):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def max_speed_point(q, aux, params):  # type: ignore[no-untyped-def]
+def max_speed_point(q, aux, params):
     """``|u| + sqrt(beta_max h)`` with the larger of K_act, K_pass (eq. 18, on the safe side)."""
     u = velocity(q[0], q[1], params[DRY])
     k_max = max(params[K_ACTIVE], params[K_PASSIVE], aux[K])
@@ -81,14 +82,14 @@ def max_speed_point(q, aux, params):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def source_point(q, aux, params, out):  # type: ignore[no-untyped-def]
+def source_point(q, aux, params, out):
     """Driving part of the source, ``(0, h sin zeta)``."""
     out[0] = 0.0
     out[1] = q[0] * aux[SIN]
 
 
 @njit(cache=True)
-def resistance_point(q, aux, params):  # type: ignore[no-untyped-def]
+def resistance_point(q, aux, params):
     """Coulomb friction magnitude ``h tan delta (cos zeta + lambda kappa u^2)`` (eq. 3), and 0
     where the normal pressure vanishes (``cos zeta + lambda kappa u^2 < 0``)."""
     h = max(q[0], 0.0)
@@ -98,7 +99,7 @@ def resistance_point(q, aux, params):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def earth_pressure(stretching, params):  # type: ignore[no-untyped-def]
+def earth_pressure(stretching, params):
     """The earth-pressure coefficient for a velocity change ``stretching`` along the flow across
     a cell (eq. 5; docs/design.md, "Earth pressure"): ``K_pass`` where the material contracts
     (``< 0``), ``K_act`` where it extends and where it does neither (``= 0``: uniform flow,
@@ -108,7 +109,7 @@ def earth_pressure(stretching, params):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def coefficients_point(q, slope, aux, params):  # type: ignore[no-untyped-def]
+def coefficients_point(q, slope, aux, params):
     """Earth-pressure coefficient of a cell for its predictor, by :func:`earth_pressure` from
     the velocity change across the cell, the reconstructed ``u' = (m' - u h') / h`` (0 in a dry
     cell)."""
@@ -120,7 +121,7 @@ def coefficients_point(q, slope, aux, params):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def interface_coefficients_point(left, right, aux_left, aux_right, params):  # type: ignore[no-untyped-def]
+def interface_coefficients_point(left, right, aux_left, aux_right, params):
     """One earth-pressure coefficient for both fluxes of a staggered cell, by
     :func:`earth_pressure` from the velocity change ``u_right - u_left`` across it (0 if a side
     is dry, where the pressure ``~ h^2`` vanishes). The pressure flux difference in the cell,
@@ -139,7 +140,7 @@ def interface_coefficients_point(left, right, aux_left, aux_right, params):  # t
 
 
 @njit(cache=True)
-def rest_coefficients_point(low, high, params):  # type: ignore[no-untyped-def]
+def rest_coefficients_point(low, high, params):
     """Material at rest is not yielding: its earth-pressure coefficient may be anything between
     ``K_act`` (``low``) and ``K_pass`` (``high``) (Mohr–Coulomb: the stress lies inside the
     yield surface), as the basal friction of a mass at rest may be anything up to the Coulomb
@@ -310,7 +311,7 @@ class SavageHutter(DepthAveragedModel):
         return np.ascontiguousarray(np.vstack([h, np.zeros_like(h)]))
 
     def exact_solution(
-        self, initial: InitialCondition, grid: Grid, context: Mapping[str, Any]
+        self, initial: InitialData, grid: Grid, context: Mapping[str, Any]
     ) -> ExactSolution | None:
         """The parabolic similarity solution for a cap released at rest on a plane chute, and
         the dam break down a plane onto a dry bed (:meth:`dam_break_solution`).
@@ -346,7 +347,7 @@ class SavageHutter(DepthAveragedModel):
         return solution
 
     def dam_break_solution(
-        self, initial: InitialCondition, grid: Grid, context: Mapping[str, Any]
+        self, initial: InitialData, grid: Grid, context: Mapping[str, Any]
     ) -> ExactSolution | None:
         """:class:`~conslaw_models.savage_hutter_exact.InclinedDamBreak` for one jump between a
         reservoir at rest (left, upslope) and a dry bed, on a plane chute on which the material

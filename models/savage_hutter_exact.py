@@ -3,7 +3,7 @@ Hutter 1989) and the dam break down an inclined plane (Mangeney et al. 2000).
 
 The similarity solution:
 
-On a plane (``zeta`` constant) with ``u > 0`` everywhere (reference §5):
+On a plane (``zeta`` constant) with ``u > 0`` everywhere (docs/equations.md, "Exact solutions"):
 
     s = sin zeta - tan delta cos zeta,   xi = x - x0 - s t^2 / 2,
     h = (H0 g0 / g) (1 - xi^2 / g^2)  for |xi| <= g,   u = s t + xi g'/g,
@@ -78,7 +78,7 @@ class SimilaritySolution(ExactSolution):
         middle = self.centre + 0.5 * self.slope * t * t
         return middle - g, middle + g
 
-    def _pieces(self, t: float) -> tuple[Array, list]:  # type: ignore[type-arg]
+    def _pieces(self, t: float) -> tuple[Array, list]:
         g, rate = self.spread(t)
         middle = self.centre + 0.5 * self.slope * t * t
         scale = self.height * self.half_length / g

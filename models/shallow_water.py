@@ -30,7 +30,7 @@ from numpy.typing import NDArray
 from conslaw.errors import ConfigError, finite_number
 from conslaw.exact import ExactSolution, Unavailable
 from conslaw.grid import Grid
-from conslaw.initial import InitialCondition
+from conslaw.model import InitialData
 from conslaw_models.depth_averaged import DRY, DepthAveragedModel, velocity
 from conslaw_models.shallow_water_exact import DamBreak
 
@@ -45,7 +45,7 @@ BED, BED_SLOPE = 0, 1
 
 
 @njit(cache=True)
-def flux_point(q, aux, params, out):  # type: ignore[no-untyped-def]
+def flux_point(q, aux, params, out):
     """``f = (h u, h u^2 + g h^2 / 2)``."""
     h = q[0]
     u = velocity(h, q[1], params[DRY])
@@ -54,7 +54,7 @@ def flux_point(q, aux, params, out):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def jacobian_point(q, aux, params, out):  # type: ignore[no-untyped-def]
+def jacobian_point(q, aux, params, out):
     """``A = [[0, 1], [g h - u^2, 2 u]]``."""
     u = velocity(q[0], q[1], params[DRY])
     out[0, 0] = 0.0
@@ -64,21 +64,21 @@ def jacobian_point(q, aux, params, out):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def max_speed_point(q, aux, params):  # type: ignore[no-untyped-def]
+def max_speed_point(q, aux, params):
     """``|u| + sqrt(g h)``."""
     u = velocity(q[0], q[1], params[DRY])
     return abs(u) + math.sqrt(params[G] * max(q[0], 0.0))
 
 
 @njit(cache=True)
-def source_point(q, aux, params, out):  # type: ignore[no-untyped-def]
+def source_point(q, aux, params, out):
     """``s = (0, -g h b_x)`` (used in the predictor, paper eq. 15)."""
     out[0] = 0.0
     out[1] = -params[G] * q[0] * aux[BED_SLOPE]
 
 
 @njit(cache=True)
-def balanced_source_point(q_left, q_right, aux_left, aux_right, dx, params, out):  # type: ignore[no-untyped-def]
+def balanced_source_point(q_left, q_right, aux_left, aux_right, dx, params, out):
     """Source averaged over the staggered cell: ``(0, -g (h_L + h_R)/2 (b_R - b_L)/dx)``."""
     out[0] = 0.0
     out[1] = -params[G] * 0.5 * (q_left[0] + q_right[0]) * (aux_right[BED] - aux_left[BED]) / dx
@@ -111,7 +111,8 @@ class ShallowWater(DepthAveragedModel):
     """Shallow-water equations, ``q = (h, hu)``, with gravity ``g`` and an optional bed ``b(x)``.
 
     Exact solutions (flat bed): the Stoker (wet) and Ritter (dry) dam breaks for a single jump at
-    rest (reference §5). A flat bed costs nothing: the bed source and the surface reconstruction
+    rest (docs/equations.md, "Exact solutions"). A flat bed costs nothing: the bed source and the
+    surface reconstruction
     are compiled only when ``bump_height != 0``.
     """
 
@@ -192,7 +193,7 @@ class ShallowWater(DepthAveragedModel):
         return np.ascontiguousarray(np.vstack([h, h * float(velocity_value)]))
 
     def exact_solution(
-        self, initial: InitialCondition, grid: Grid, context: Mapping[str, Any]
+        self, initial: InitialData, grid: Grid, context: Mapping[str, Any]
     ) -> ExactSolution | None:
         """Stoker/Ritter for one jump between two states at rest on a flat bed, with outflow
         boundaries that no wave reaches by ``t_end``; else None or Unavailable."""

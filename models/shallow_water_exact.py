@@ -1,4 +1,5 @@
-"""Exact dam-break solutions of the shallow-water equations (Stoker; Ritter), reference §5."""
+"""Exact dam-break solutions of the shallow-water equations (Stoker; Ritter) (docs/equations.md,
+"Exact solutions")."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from conslaw.exact import ExactSolution, piecewise_cell_averages
-from conslaw.initial import InitialCondition
+from conslaw.model import InitialData
 from conslaw_models.roots import increasing_root
 
 Array = NDArray[np.float64]
@@ -36,7 +37,7 @@ class DamBreak(ExactSolution):
     g: float
 
     @classmethod
-    def from_initial(cls, initial: InitialCondition, g: float) -> DamBreak | None:
+    def from_initial(cls, initial: InitialData, g: float) -> DamBreak | None:
         """From a piecewise-constant condition with one jump between states at rest."""
         breakpoints = initial.options["breakpoints"]
         states = initial.options["states"]
@@ -70,7 +71,7 @@ class DamBreak(ExactSolution):
         h_m = increasing_root(lambda h: -mismatch(h), h_shallow, h_deep)
         return h_m, 2.0 * (c_deep - math.sqrt(self.g * h_m))
 
-    def _structure(self, t: float) -> tuple[Array, list]:  # type: ignore[type-arg]
+    def _structure(self, t: float) -> tuple[Array, list]:
         """Breakpoints (deep side left, relative to x0) and piece functions of (h, hu)."""
         g = self.g
         h_deep = max(self.h_left, self.h_right)
@@ -78,7 +79,7 @@ class DamBreak(ExactSolution):
         c_deep = math.sqrt(g * h_deep)
         h_m, u_m = self.middle_state()
 
-        def constant(h: float, u: float):  # type: ignore[no-untyped-def]
+        def constant(h: float, u: float):
             return lambda x: np.vstack([np.full_like(x, h), np.full_like(x, h * u)])
 
         def fan(x: Array) -> Array:

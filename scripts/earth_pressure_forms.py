@@ -22,7 +22,7 @@ from conslaw import registry
 from conslaw.grid import Grid
 from conslaw.initial import piecewise_constant_averages
 from conslaw.schemes.base import BoundarySpec
-from conslaw.schemes.nessyahu_tadmor import NessyahuTadmor
+from conslaw.schemes.nessyahu_tadmor.scheme import NessyahuTadmor
 from conslaw.state import State
 from conslaw_models.savage_hutter import SavageHutter
 

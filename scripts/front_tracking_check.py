@@ -12,8 +12,8 @@ from __future__ import annotations
 import math
 
 import conslaw
-from conslaw.schemes.front_tracking import FrontTrackingNT, MarginCellHooks
-from conslaw.schemes.nessyahu_tadmor import SubcellHooks
+from conslaw.schemes.front_tracking.scheme import FrontTrackingNT, MarginCellHooks
+from conslaw.schemes.nessyahu_tadmor.scheme import SubcellHooks
 
 
 def report(label: str) -> None:

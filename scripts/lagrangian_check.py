@@ -4,7 +4,8 @@
 
 1. sh-runout-shock at t = 20: the deposit (largest depth and where, the shock as the largest
    rise of the depth downslope, the front) with NT and with the Lagrangian scheme (mu = 0.02,
-   the reference §4 pressure gradient and the conservative pressure flux); new extrema of the
+   the pressure gradient of Savage & Hutter (1989) and the conservative pressure flux); new extrema
+   of the
    element depths on the flat run-out (x >= 25.5) without viscosity; where mu = 0 breaks down.
 2. The dry dam break (Ritter): the front of the Lagrangian scheme against the exact x = 4 at t = 2.
 """

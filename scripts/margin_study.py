@@ -17,7 +17,7 @@ import math
 import numpy as np
 
 import conslaw
-import conslaw.schemes.front_tracking as front_tracking
+import conslaw.schemes.front_tracking.scheme as front_tracking
 from conslaw.config import load_scene
 from conslaw.simulation import build
 from conslaw_models.savage_hutter import earth_pressure_coefficients

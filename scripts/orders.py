@@ -1,4 +1,5 @@
-"""Observed L1 orders of every reconstructor on burgers-sine (smooth solution, reference §6).
+"""Observed L1 orders of every reconstructor on burgers-sine (smooth solution, docs/equations.md,
+"Exact solutions").
 
     python scripts/orders.py [--cells 100,200,400,800] [--json PATH]
 

@@ -1,4 +1,4 @@
-"""Run the stability catalogue of reference §7 and print the table of ``docs/stability.md``.
+"""Run the stability catalogue of docs/stability.md and print the table of ``docs/stability.md``.
 
     python scripts/stability_table.py [--case KEY[,KEY...]]
 
@@ -63,7 +63,7 @@ def main() -> int:
         parser.error(
             f"unknown case(s) {', '.join(unknown)}; allowed: {', '.join(c.key for c in CASES)}"
         )
-    print("| case | reference §7 item | set-up | expected | observed | command |")
+    print("| case | catalogue item | set-up | expected | observed | command |")
     print("|---|---|---|---|---|---|")
     failures = 0
     for case in CASES:

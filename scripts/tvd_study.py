@@ -49,7 +49,7 @@ from numpy.typing import NDArray
 from conslaw import registry
 from conslaw.grid import Grid
 from conslaw.schemes.base import BoundarySpec
-from conslaw.schemes.nessyahu_tadmor import NessyahuTadmor
+from conslaw.schemes.nessyahu_tadmor.scheme import NessyahuTadmor
 from conslaw.state import State
 
 Array = NDArray[np.float64]

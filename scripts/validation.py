@@ -12,7 +12,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from conslaw.convergence import convergence_study, write_study
+from conslaw.studies.convergence import convergence_study, write_study
 
 ROOT = Path(__file__).resolve().parents[1]
 STUDIES = [

@@ -12,7 +12,7 @@ from hypothesis import settings
 from conslaw import registry
 from conslaw.grid import Grid
 from conslaw.schemes.base import BoundarySpec
-from conslaw.schemes.nessyahu_tadmor import NessyahuTadmor
+from conslaw.schemes.nessyahu_tadmor.scheme import NessyahuTadmor
 
 # CI draws the same examples on every run (.ci/run sets HYPOTHESIS_PROFILE=ci), so that a red CI
 # means the change broke something, not that a new random draw found an old edge case; local
@@ -56,7 +56,7 @@ def rng() -> np.random.Generator:
 EXAMPLES_PER_MODEL: dict[str, int] = {}
 #: The key for property tests that are not about one model (chutes, scenes, reconstructors).
 NOT_MODEL_SPECIFIC = "(not model-specific)"
-#: What issue 7 asks of every CI run.
+#: What every CI run asks for.
 EXAMPLES_TARGET = 1000
 
 

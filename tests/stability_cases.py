@@ -1,4 +1,4 @@
-"""The stiff and extreme catalogue of reference §7, each case with its expected outcome.
+"""The stiff and extreme catalogue of docs/stability.md, each case with its expected outcome.
 
 Every case builds its set-up, runs it, and returns an :class:`Observation`: what happened (the run
 ended normally, it stopped with a clear error, or the material came to rest and stayed), the
@@ -23,7 +23,7 @@ from conslaw import registry
 from conslaw.errors import ConslawError, InadmissibleStateError, SchemeBreakdownError
 from conslaw.grid import Grid
 from conslaw.schemes.base import BoundarySpec
-from conslaw.schemes.nessyahu_tadmor import NessyahuTadmor
+from conslaw.schemes.nessyahu_tadmor.scheme import NessyahuTadmor
 from conslaw.state import State
 from conslaw_models.burgers_exact import BurgersRiemannFans
 from conslaw_models.savage_hutter import cap_profile
@@ -56,7 +56,7 @@ class Observation:
 
 @dataclass(frozen=True)
 class Case:
-    """A catalogue entry: reference §7 item, set-up, expected outcome, and how to run it."""
+    """A catalogue entry: catalogue item, set-up, expected outcome, and how to run it."""
 
     key: str
     item: str

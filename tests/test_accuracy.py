@@ -1,4 +1,4 @@
-"""Accuracy against exact solutions (reference §6 norm) and observed orders."""
+"""Accuracy against exact solutions (docs/equations.md, "Error norms") and observed orders."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The bad-input catalogue (issue 7): malformed scenes, scene files, tables and API calls.
+"""The bad-input catalogue: malformed scenes, scene files, tables and API calls.
 
 Every command-line case must end with exactly one line ``conslaw: error: ...`` on stderr that
 names what is wrong (the fragments listed with the case), exit code 2, no traceback, and no file

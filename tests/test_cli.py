@@ -44,7 +44,8 @@ def test_list_shows_every_registered_name() -> None:
     assert "reconstructors (7):" in out
     for name in ("none", "minmod", "superbee", "vanleer", "mc", "weno3", "weno5"):
         assert f"  {name} " in out
-    assert "schemes (2):" in out and "nessyahu-tadmor" in out and "  lagrangian " in out
+    assert "schemes (3):" in out and "nessyahu-tadmor" in out and "  lagrangian " in out
+    assert "  front-tracking " in out
     assert "  burgers " in out and "  shallow-water " in out
     assert "boundary conditions (4):" in out
     for name in ("periodic", "outflow", "wall", "inflow"):

@@ -1,4 +1,4 @@
-"""Kernel generation (conslaw.kernels.codegen): what recompiles, line numbers, stale modules,
+"""Kernel generation (conslaw.kernelgen.generation): what recompiles, line numbers, stale modules,
 threads."""
 
 from __future__ import annotations
@@ -14,11 +14,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import conslaw
 from conslaw import registry
 from conslaw.grid import Grid
-from conslaw.kernels import codegen
-from conslaw.kernels.codegen import dependency_sources, generate
+from conslaw.kernelgen import generation as codegen
+from conslaw.kernelgen.generation import dependency_sources, generate
 from conslaw.reconstruct import limiters
+from conslaw.schemes.front_tracking.kernels import ft_kernels
+from conslaw.schemes.nessyahu_tadmor import kernels as nt
 
 TEMPLATE = """\
 import numpy as np
@@ -114,7 +117,7 @@ def test_savage_hutter_kernel_depends_on_its_own_files_only() -> None:
     not the CLI, another model or the folder around them."""
     model = registry.models.get("savage-hutter")(phi=35.0, delta=30.0)
     wall = registry.boundaries.get("wall")
-    bound = codegen._scheme_bindings(model, limiters.slope_mc, wall.fill_left, wall.fill_right)
+    bound = nt.scheme_bindings(model, limiters.slope_mc, wall.fill_left, wall.fill_right)
     files = {text.split("\0", 1)[0] for text in dependency_sources(bound) if "\0" in text}
     names = {Path(file).name for file in files}
     assert "savage_hutter.py" in names
@@ -128,20 +131,25 @@ def test_generated_lines_are_the_template_lines() -> None:
     model = registry.models.get("savage-hutter")(phi=35.0, delta=30.0)
     wall = registry.boundaries.get("wall")
     left, right = wall.fill_left, wall.fill_right
-    nt = codegen.nt_kernels(model, limiters.slope_mc, left, right)
-    ft = codegen.ft_kernels(model, limiters.slope_mc, left, right)
-    arrays = codegen.model_array_kernels(model)
-    cases = ((nt, "nt_template.py"), (ft, "ft_template.py"), (arrays, "arrays_template.py"))
+    nt_module = nt.nt_kernels(model, limiters.slope_mc, left, right)
+    ft_module = ft_kernels(model, limiters.slope_mc, left, right)
+    arrays = model._compiled_arrays()
+    conslaw_folder = Path(conslaw.__file__).parent
+    cases = (
+        (nt_module, nt.TEMPLATE),
+        (ft_module, conslaw_folder / "schemes" / "front_tracking" / "kernel_template.py"),
+        (arrays, conslaw_folder / "array_kernels_template.py"),
+    )
     for module, template in cases:
         generated_lines = Path(module.__file__).read_text().splitlines()
-        template_lines = (Path(codegen.__file__).parent / template).read_text().splitlines()
+        template_lines = template.read_text().splitlines()
         assert len(generated_lines) == len(template_lines), template
         inside = False
         pairs = zip(generated_lines, template_lines, strict=True)
         for number, (ours, theirs) in enumerate(pairs, 1):
             if theirs.startswith(codegen._BEGIN):
                 inside = True
-            if not inside and "conslaw.kernels.nt_template" not in theirs:
+            if not inside and "conslaw.schemes.nessyahu_tadmor.kernel_template" not in theirs:
                 assert ours == theirs, (template, number)
             if theirs.startswith(codegen._END):
                 inside = False
@@ -154,12 +162,12 @@ def test_a_traceback_in_a_kernel_names_the_template_line(tmp_path: Path) -> None
         """
         import numpy as np
         from conslaw import registry
-        from conslaw.kernels import codegen
         from conslaw.reconstruct import limiters
+        from conslaw.schemes.nessyahu_tadmor.kernels import nt_kernels
         model = registry.models.get("burgers")()
         outflow = registry.boundaries.get("outflow")
         left, right = outflow.fill_left, outflow.fill_right
-        kernels = codegen.nt_kernels(model, limiters.slope_mc, left, right)
+        kernels = nt_kernels(model, limiters.slope_mc, left, right)
         kernels.copy_cells(np.zeros((1, 4)), np.zeros((1, 4)), 10)
         """
     )
@@ -168,10 +176,14 @@ def test_a_traceback_in_a_kernel_names_the_template_line(tmp_path: Path) -> None
         [sys.executable, "-c", script], env=environment, capture_output=True, text=True
     )
     assert "IndexError" in done.stderr
-    frames = [line for line in done.stderr.splitlines() if "conslaw_kernel_nt_template" in line]
+    frames = [
+        line
+        for line in done.stderr.splitlines()
+        if "conslaw_kernel_nessyahu_tadmor_kernel_template" in line
+    ]
     assert frames, done.stderr
     number = int(frames[-1].split("line ")[1].split(",")[0])
-    template = (Path(codegen.__file__).parent / "nt_template.py").read_text().splitlines()
+    template = nt.TEMPLATE.read_text().splitlines()
     assert template[number - 1].strip() == "dst[v, col(i)] = src[v, col(i)]"
 
 
@@ -187,7 +199,7 @@ def test_threads_generate_one_module(monkeypatch: pytest.MonkeyPatch, tmp_path: 
 
     def build() -> None:
         try:
-            modules.append(codegen.nt_kernels(model, limiters.slope_minmod, left, right))
+            modules.append(nt.nt_kernels(model, limiters.slope_minmod, left, right))
         except BaseException as error:
             errors.append(error)
 
@@ -198,6 +210,22 @@ def test_threads_generate_one_module(monkeypatch: pytest.MonkeyPatch, tmp_path: 
         thread.join()
     assert not errors
     assert len({id(module) for module in modules}) == 1
-    assert len(list(tmp_path.glob("conslaw_kernel_nt_template_*.py"))) == 1
+    assert len(list(tmp_path.glob("conslaw_kernel_nessyahu_tadmor_kernel_template_*.py"))) == 1
     state = np.zeros((1, Grid(0.0, 1.0, 4).n_cells + 6))
     modules[0].copy_cells(state, state, 4)
+
+
+def test_kernels_of_other_bindings_are_not_pruned(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    """Front-tracking kernels of two reconstructors (the same template, other imported NT
+    kernels) are two families: writing one leaves the other in place."""
+    monkeypatch.setenv("CONSLAW_CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(codegen, "_loaded", {})
+    model = registry.models.get("shallow-water")()
+    wall = registry.boundaries.get("wall")
+    first = ft_kernels(model, limiters.slope_mc, wall.fill_left, wall.fill_right)
+    second = ft_kernels(model, limiters.slope_minmod, wall.fill_left, wall.fill_right)
+    assert first.__name__ != second.__name__
+    assert Path(first.__file__).exists() and Path(second.__file__).exists()
+    assert len(list(tmp_path.glob("conslaw_kernel_front_tracking_*.py"))) == 2

@@ -90,3 +90,18 @@ def test_exact_comparison_only_where_it_applies(
     result = conslaw.run(scene, n_cells=40, **overrides)
     assert result.exact_solution is None and result.errors[-1] is None
     assert result.exact_note is not None and reason in result.exact_note
+
+
+def test_front_tracking_is_a_scheme_and_the_old_flag_still_chooses_it() -> None:
+    """``scheme = "front-tracking"`` and the flag of earlier scene files (``front_tracking =
+    true`` with nessyahu-tadmor) give the same scene; the flag with another scheme is refused
+    in one line naming what to write."""
+    by_name = load_scene("sh-similarity", {"scheme": "front-tracking", "exact": False})
+    by_flag = load_scene("sh-similarity", {"front_tracking": True, "exact": False})
+    assert by_name == by_flag
+    assert by_flag.scheme == "front-tracking" and by_flag.front_tracking
+    assert load_scene("sh-similarity").front_tracking is False
+    with pytest.raises(ConfigError, match='scheme = "front-tracking"'):
+        load_scene("sh-similarity", {"front_tracking": True, "scheme": "lagrangian"})
+    written = by_flag.to_table()
+    assert written["scheme"] == "front-tracking" and written["front_tracking"] is True

@@ -8,8 +8,8 @@ from pathlib import Path
 import pytest
 from test_cli import assert_one_line_error, cli
 
-from conslaw.convergence import convergence_study, write_study
 from conslaw.errors import ConfigError
+from conslaw.studies.convergence import convergence_study, write_study
 
 
 def test_study_rows_orders_and_timings() -> None:

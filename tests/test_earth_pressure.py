@@ -50,7 +50,7 @@ states = [[1.0, 1.0]]
 
 
 @pytest.mark.parametrize("reconstructor", RECONSTRUCTORS)
-@pytest.mark.parametrize("n", [100, 1600])
+@pytest.mark.parametrize("n", [100, pytest.param(1600, marks=pytest.mark.slow)])
 def test_a_uniform_layer_stays_uniform_whatever_phi(
     reconstructor: str, n: int, tmp_path: Path
 ) -> None:

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import conslaw
-from conslaw import figure_worker, io
+from conslaw import figure_worker, plotting
 from conslaw.figure_worker import FigureWorker
 from conslaw.simulation import simulate
 
@@ -37,7 +37,7 @@ def started() -> FigureWorker:
 
 
 def test_the_child_draws_the_figures_the_parent_would(run, tmp_path: Path) -> None:
-    """Byte-identical PNGs from the child and from :func:`conslaw.io.draw_figures`, and the
+    """Byte-identical PNGs from the child and from :func:`conslaw.plotting.draw_figures`, and the
     child reports the paths it wrote."""
     (tmp_path / "child").mkdir()
     (tmp_path / "parent").mkdir()
@@ -45,7 +45,7 @@ def test_the_child_draws_the_figures_the_parent_would(run, tmp_path: Path) -> No
     written = worker.draw(run, tmp_path / "child")
     assert written == [tmp_path / "child" / "profiles.png", tmp_path / "child" / "chute.png"]
     assert not worker.process.is_alive() and worker.process.exitcode == 0
-    expected = io.draw_figures(run, tmp_path / "parent")
+    expected = plotting.draw_figures(run, tmp_path / "parent")
     for ours, theirs in zip(written, expected, strict=True):
         assert ours.name == theirs.name
         assert ours.read_bytes() == theirs.read_bytes()
@@ -54,19 +54,19 @@ def test_the_child_draws_the_figures_the_parent_would(run, tmp_path: Path) -> No
 def test_a_failing_child_leaves_the_figures_to_the_parent(
     run, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """A child that raises reports the error; :func:`conslaw.io.write_figures` then draws in the
-    parent, so the run still gets its figures."""
+    """A child that raises reports the error; :func:`conslaw.figure_worker.write_figures` then
+    draws in the parent, so the run still gets its figures."""
     parent = os.getpid()
-    draw = io.draw_figures
+    draw = plotting.draw_figures
 
     def fails_in_the_child(result, folder):  # type: ignore[no-untyped-def]
         if os.getpid() != parent:
             raise RuntimeError("no figures here")
         return draw(result, folder)
 
-    monkeypatch.setattr(io, "draw_figures", fails_in_the_child)
+    monkeypatch.setattr(plotting, "draw_figures", fails_in_the_child)
     assert started().draw(run, tmp_path) is None
-    written = io.write_figures(run, tmp_path, started())
+    written = figure_worker.write_figures(run, tmp_path, started())
     assert [p.name for p in written] == ["profiles.png", "chute.png"]
     assert all(p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" for p in written)
 
@@ -119,7 +119,7 @@ def test_a_result_that_does_not_pickle_is_drawn_in_the_parent(run, tmp_path: Pat
     model = pickle.loads(pickle.dumps(run.model))
     model.unpicklable = lambda: None  # type: ignore[attr-defined]
     result = dataclasses.replace(run, model=model)
-    written = io.write_figures(result, tmp_path, started())
+    written = figure_worker.write_figures(result, tmp_path, started())
     assert [p.name for p in written] == ["profiles.png", "chute.png"]
 
 

@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 import conslaw
-from conslaw.convergence import convergence_study
 from conslaw.errors import ConfigError, SchemeBreakdownError
-from conslaw.schemes.front_tracking import front_cell, margin_fit, rear_cell
+from conslaw.schemes.front_tracking.scheme import front_cell, margin_fit, rear_cell
+from conslaw.studies.convergence import convergence_study
 
 
 @pytest.fixture(scope="module")
@@ -59,7 +59,7 @@ def test_similarity_beats_thin_layer_and_stays_active(similarity_ft: conslaw.Run
 
 def test_margin_error_converges_and_is_printed(capsys: pytest.CaptureFixture[str]) -> None:
     """The convergence tool reports the margin error at t = 6 and its observed order for
-    90/180/360 cells: at least 1 (issue 5; measured 1.67 and 1.71), and the margins stay within
+    90/180/360 cells: at least 1 (measured 1.67 and 1.71), and the margins stay within
     a tenth of a cell at every N."""
     study = convergence_study("sh-similarity-ft", [90, 180, 360], repeats=1, measure_import=False)
     table = study.table()
@@ -150,7 +150,7 @@ def test_two_bodies_refused(tmp_path: Path) -> None:
     q = initial.q.copy()
     q[0, : grid.n_cells // 4] = 0.0
     q[0, grid.n_cells // 4 + 5 : grid.n_cells // 4 + 8] = 0.0
-    from conslaw.schemes.front_tracking import FrontTrackingNT
+    from conslaw.schemes.front_tracking.scheme import FrontTrackingNT
     from conslaw.state import State
 
     tracker = FrontTrackingNT(

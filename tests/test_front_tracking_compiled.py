@@ -10,9 +10,9 @@ import pytest
 
 import conslaw
 from conslaw.errors import InadmissibleStateError, SchemeBreakdownError
-from conslaw.schemes import front_tracking
 from conslaw.schemes.base import AdvanceResult
-from conslaw.schemes.front_tracking import FrontTrackingNT
+from conslaw.schemes.front_tracking import scheme as front_tracking
+from conslaw.schemes.front_tracking.scheme import FrontTrackingNT
 from conslaw.state import State
 
 #: Agreement of the two paths, relative to the largest value of each row.

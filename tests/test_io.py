@@ -18,7 +18,7 @@ from test_cli import CONSLAW, cli
 
 import conslaw
 from conslaw.errors import InadmissibleStateError, StepLimitError
-from conslaw.schemes.nessyahu_tadmor import NessyahuTadmor
+from conslaw.schemes.nessyahu_tadmor.scheme import NessyahuTadmor
 
 ALL_FORMATS = {"output.formats": ["npz", "xdmf", "vtu", "csv"]}
 

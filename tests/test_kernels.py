@@ -17,7 +17,7 @@ from conslaw import registry
 from conslaw.errors import InadmissibleStateError
 from conslaw.grid import Grid
 from conslaw.schemes.base import BoundarySpec
-from conslaw.schemes.nessyahu_tadmor import NessyahuTadmor
+from conslaw.schemes.nessyahu_tadmor.scheme import NessyahuTadmor
 from conslaw.state import State
 
 CASES = {
@@ -144,7 +144,7 @@ def test_thin_tail_velocity_bound_matches_reference_in_a_later_block(
     the bound switched off, ``THIN_TAIL = 0``)."""
     from stability_cases import _cap, scheme
 
-    import conslaw.schemes.nessyahu_tadmor as nt_module
+    import conslaw.schemes.nessyahu_tadmor.scheme as nt_module
 
     nt = scheme("savage-hutter", {"zeta": 89.0, "phi": 30.0, "delta": 30.0}, Grid(0, 60, 600))
     block = nt.kernels.BLOCK
@@ -211,8 +211,8 @@ def test_step_returns_the_counts_and_speed_of_its_new_state(
     wave speed in some (found with the reference step with ``THIN_TAIL = 0``)."""
     from stability_cases import scheme
 
-    import conslaw.schemes.nessyahu_tadmor as nt_module
-    from conslaw.schemes.nessyahu_tadmor import GHOSTS
+    import conslaw.schemes.nessyahu_tadmor.scheme as nt_module
+    from conslaw.schemes.nessyahu_tadmor.scheme import GHOSTS
 
     nt = scheme(model, parameters, Grid(0.0, 60.0, 600), boundary)
     kernels = nt.kernels

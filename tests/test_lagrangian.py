@@ -1,4 +1,5 @@
-"""The Lagrangian moving-grid scheme (Savage & Hutter 1989, reference §4): the similarity
+"""The Lagrangian moving-grid scheme (Savage & Hutter 1989; docs/design.md, "The Lagrangian moving
+grid"): the similarity
 solution and its order, the run-out shock with and without artificial viscosity, breakdown
 detection, the projection, scheme options, ``conslaw compare`` and clear refusals."""
 
@@ -12,15 +13,15 @@ from test_cli import assert_one_line_error, cli
 
 import conslaw
 from conslaw import registry
-from conslaw.comparison import compare
 from conslaw.config import load_scene, scheme_variants
-from conslaw.convergence import convergence_study
 from conslaw.errors import ConfigError, SchemeBreakdownError
 from conslaw.grid import Grid
 from conslaw.schemes.base import BoundarySpec
-from conslaw.schemes.lagrangian import GROWTH_LIMIT, LagrangianScheme
+from conslaw.schemes.lagrangian.scheme import GROWTH_LIMIT, LagrangianScheme
 from conslaw.schemes.projection import project_onto_grid
 from conslaw.state import LagrangianNodes, State
+from conslaw.studies.comparison import compare
+from conslaw.studies.convergence import convergence_study
 
 
 def local_extrema(values: np.ndarray) -> int:

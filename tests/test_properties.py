@@ -34,7 +34,7 @@ from conslaw import registry
 from conslaw.grid import Grid
 from conslaw.model import Model
 from conslaw.schemes.base import BoundarySpec
-from conslaw.schemes.nessyahu_tadmor import NessyahuTadmor
+from conslaw.schemes.nessyahu_tadmor.scheme import NessyahuTadmor
 from conslaw.state import State
 
 Array = NDArray[np.float64]
@@ -382,7 +382,8 @@ def coulomb_slab_velocity(u0: float, t: float, zeta: float, delta: float) -> tup
     it passed through rest and was pulled back the other way by gravity (a reversal).
 
     ``du/dt = sin zeta - sgn(u) tan delta cos zeta`` with the set-valued ``sgn(0)`` of Coulomb
-    friction (reference §1): at rest it stays at rest while ``|tan zeta| <= tan delta``.
+    friction (docs/design.md, "Savage–Hutter specifics"): at rest it stays at rest while ``|tan
+    zeta| <= tan delta``.
     """
     drive, friction = math.sin(zeta), math.tan(delta) * math.cos(zeta)
     if u0 == 0.0:

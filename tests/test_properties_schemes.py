@@ -1,7 +1,7 @@
 """Every scheme on every model it accepts, on extreme data: finite, admissible, h >= 0, conserved.
 
-The cases are built from the registries (issue 7): every registered scheme plus front tracking
-(the NT scheme with ``front_tracking = true``), every model parameter family of
+The cases are built from the registries: every registered scheme plus front tracking
+(``front-tracking``), every model parameter family of
 ``strategies.PARAMETER_FAMILIES`` (each family keeps one compiled kernel per reconstructor) and
 every reconstructor. A scheme declares what it works with by refusing the rest at construction
 with a ConfigError (``Scheme`` docstring); the cases are exactly the accepted combinations, and
@@ -39,16 +39,15 @@ from conslaw.errors import ConfigError, SchemeBreakdownError
 from conslaw.grid import Grid
 from conslaw.model import Model
 from conslaw.schemes.base import BoundarySpec, Scheme
-from conslaw.schemes.front_tracking import FrontTrackingNT
-from conslaw.schemes.nessyahu_tadmor import NessyahuTadmor
+from conslaw.schemes.front_tracking.scheme import FrontTrackingNT
+from conslaw.schemes.nessyahu_tadmor.scheme import NessyahuTadmor
 from conslaw.state import State
 
 Array = NDArray[np.float64]
 
-#: Every registered scheme, and front tracking (chosen by a scene flag, not by name).
+#: Every registered scheme (front tracking among them).
 SCHEME_VARIANTS: dict[str, type[Scheme]] = {
-    **{name: registry.schemes.get(name) for name in registry.schemes.names()},
-    "front-tracking": FrontTrackingNT,
+    name: registry.schemes.get(name) for name in registry.schemes.names()
 }
 #: Boundary kinds drawn (inflow needs a state of its own and adds mass: not drawn).
 BOUNDARY_KINDS = ("periodic", "wall", "outflow")

@@ -12,7 +12,7 @@ from test_cli import cli
 
 import conslaw
 from conslaw.plotting import XT_MIN_OUTPUTS, figures_for
-from conslaw.reproduce import PAPER_FIGURES, reproduce_paper
+from conslaw.studies.reproduce import PAPER_FIGURES, reproduce_paper
 
 PNG = b"\x89PNG\r\n\x1a\n"
 

@@ -15,7 +15,7 @@ from conslaw import registry
 from conslaw.errors import ConfigError
 from conslaw.grid import Grid
 from conslaw.schemes.base import BoundarySpec
-from conslaw.schemes.nessyahu_tadmor import NessyahuTadmor
+from conslaw.schemes.nessyahu_tadmor.scheme import NessyahuTadmor
 from conslaw.state import State
 from conslaw_models.chute import PaperChute, TableChute
 from conslaw_models.savage_hutter import SavageHutter, earth_pressure_coefficients

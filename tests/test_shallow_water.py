@@ -8,7 +8,7 @@ import pytest
 import conslaw
 from conslaw.errors import ConfigError
 from conslaw.initial import InitialCondition
-from conslaw.schemes import nessyahu_tadmor
+from conslaw.schemes.nessyahu_tadmor import scheme as nessyahu_tadmor
 from conslaw.simulation import build
 from conslaw_models.shallow_water import ShallowWater
 from conslaw_models.shallow_water_exact import DamBreak

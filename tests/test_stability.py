@@ -1,4 +1,4 @@
-"""Stability on stiff and extreme cases (issue 7): the catalogue of reference §7, the defects it
+"""Stability on stiff and extreme cases: the catalogue of docs/stability.md, the defects it
 and the property tests found, and the runtime monitors of every run path.
 
 The catalogue itself lives in ``stability_cases.py`` (shared with ``scripts/stability_table.py``,
@@ -21,8 +21,8 @@ from conslaw import registry
 from conslaw.errors import InadmissibleStateError, SchemeBreakdownError
 from conslaw.grid import Grid
 from conslaw.schemes.base import BoundarySpec, Scheme
-from conslaw.schemes.front_tracking import FrontTrackingNT
-from conslaw.schemes.nessyahu_tadmor import NessyahuTadmor
+from conslaw.schemes.front_tracking.scheme import FrontTrackingNT
+from conslaw.schemes.nessyahu_tadmor.scheme import NessyahuTadmor
 from conslaw.state import State
 
 DOCS = Path(__file__).resolve().parents[1] / "docs" / "stability.md"

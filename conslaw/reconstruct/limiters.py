@@ -16,13 +16,13 @@ _TINY = 1e-300
 
 
 @njit(cache=True)
-def minmod2(a, b):  # type: ignore[no-untyped-def]
+def minmod2(a, b):
     """``minmod(a, b)``: the smaller in magnitude if the signs agree, else 0."""
     return 0.5 * (np.sign(a) + np.sign(b)) * np.minimum(np.abs(a), np.abs(b))
 
 
 @njit(cache=True)
-def minmod3(a, b, c):  # type: ignore[no-untyped-def]
+def minmod3(a, b, c):
     """``minmod(a, b, c)``: the smallest in magnitude if all signs agree, else 0."""
     sa = np.sign(a)
     return (
@@ -34,19 +34,19 @@ def minmod3(a, b, c):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def slope_none(wm2, wm1, w0, wp1, wp2):  # type: ignore[no-untyped-def]
+def slope_none(wm2, wm1, w0, wp1, wp2):
     """Zero slope: piecewise-constant data, the staggered Lax–Friedrichs scheme."""
     return 0.0 * w0
 
 
 @njit(cache=True)
-def slope_minmod(wm2, wm1, w0, wp1, wp2):  # type: ignore[no-untyped-def]
+def slope_minmod(wm2, wm1, w0, wp1, wp2):
     """Minmod limiter, ``w' = minmod(Δ-, Δ+)`` (Nessyahu & Tadmor 1990, eq. 2.12)."""
     return minmod2(w0 - wm1, wp1 - w0)
 
 
 @njit(cache=True)
-def slope_superbee(wm2, wm1, w0, wp1, wp2):  # type: ignore[no-untyped-def]
+def slope_superbee(wm2, wm1, w0, wp1, wp2):
     """Superbee (Roe), ``w' = maxmod(minmod(2Δ-, Δ+), minmod(Δ-, 2Δ+))`` (Yee 1989)."""
     dm = w0 - wm1
     dp = wp1 - w0
@@ -57,7 +57,7 @@ def slope_superbee(wm2, wm1, w0, wp1, wp2):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, error_model="numpy")  # no zero-division branch: the kernel stays SIMD
-def slope_vanleer(wm2, wm1, w0, wp1, wp2):  # type: ignore[no-untyped-def]
+def slope_vanleer(wm2, wm1, w0, wp1, wp2):
     """Van Leer (harmonic) limiter, ``w' = (Δ+|Δ-| + Δ-|Δ+|)/(|Δ-| + |Δ+|)`` (van Leer 1974)."""
     dm = w0 - wm1
     dp = wp1 - w0
@@ -66,7 +66,7 @@ def slope_vanleer(wm2, wm1, w0, wp1, wp2):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def slope_mc(wm2, wm1, w0, wp1, wp2):  # type: ignore[no-untyped-def]
+def slope_mc(wm2, wm1, w0, wp1, wp2):
     """Monotonised-central limiter, ``w' = minmod(2Δ-, (Δ- + Δ+)/2, 2Δ+)`` (van Leer 1977)."""
     dm = w0 - wm1
     dp = wp1 - w0

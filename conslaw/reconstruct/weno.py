@@ -25,7 +25,7 @@ WENO_EPSILON = 1e-6
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _weno3_face(wm1, w0, wp1):  # type: ignore[no-untyped-def]
+def _weno3_face(wm1, w0, wp1):
     """Third-order WENO value at the right face of the middle cell (Jiang & Shu 1996, r = 2)."""
     candidate0 = -0.5 * wm1 + 1.5 * w0
     candidate1 = 0.5 * w0 + 0.5 * wp1
@@ -37,7 +37,7 @@ def _weno3_face(wm1, w0, wp1):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _weno5_face(wm2, wm1, w0, wp1, wp2):  # type: ignore[no-untyped-def]
+def _weno5_face(wm2, wm1, w0, wp1, wp2):
     """Fifth-order WENO value at the right face of the middle cell (Jiang & Shu 1996, r = 3)."""
     candidate0 = (2.0 * wm2 - 7.0 * wm1 + 11.0 * w0) / 6.0
     candidate1 = (-wm1 + 5.0 * w0 + 2.0 * wp1) / 6.0
@@ -60,12 +60,12 @@ def _weno5_face(wm2, wm1, w0, wp1, wp2):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def slope_weno3(wm2, wm1, w0, wp1, wp2):  # type: ignore[no-untyped-def]
+def slope_weno3(wm2, wm1, w0, wp1, wp2):
     """WENO r = 2 slope: ``w^-_{j+1/2} - w^+_{j-1/2}`` (the left face by mirror symmetry)."""
     return _weno3_face(wm1, w0, wp1) - _weno3_face(wp1, w0, wm1)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def slope_weno5(wm2, wm1, w0, wp1, wp2):  # type: ignore[no-untyped-def]
+def slope_weno5(wm2, wm1, w0, wp1, wp2):
     """WENO r = 3 slope: ``w^-_{j+1/2} - w^+_{j-1/2}`` (the left face by mirror symmetry)."""
     return _weno5_face(wm2, wm1, w0, wp1, wp2) - _weno5_face(wp2, wp1, w0, wm1, wm2)

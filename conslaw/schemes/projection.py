@@ -9,7 +9,7 @@ grid by *exact* overlap integrals of a reconstruction inside each element:
   volume ``V_i``): the slope is the MC-limited slope of the element averages (van Leer 1977,
   monotonized central; one-sided differences on the non-uniform element centres), further limited
   so that ``h >= 0`` at both ends of the element; an element next to a free margin is the line
-  from ``h = 0`` at the margin (reference §4: ``h = 0`` at the margins), which is also the
+  from ``h = 0`` at the margin (``h = 0`` at the margins, Savage & Hutter 1989), which is also the
   one-sided depth gradient the scheme uses there;
 - velocity linear between the two nodes of the element, so the momentum density ``h u`` is a
   quadratic and is integrated exactly.

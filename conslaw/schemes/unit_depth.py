@@ -2,7 +2,8 @@
 
 Schemes that move material points (the margins of front tracking, the nodes of the Lagrangian
 scheme) integrate the momentum equation in its Lagrangian, per-unit-mass form
-``du/dt = s_x - beta dh/dx`` (reference §1; Tai et al. 2001, eq. 19 at a margin). They never
+``du/dt = s_x - beta dh/dx`` (docs/design.md, "Savage–Hutter specifics"; Tai et al. 2001, eq. 19 at
+a margin). They never
 re-implement the physics: ``beta``, the driving force and the Coulomb friction come from the
 model's own array methods, evaluated for unit depth:
 
@@ -11,7 +12,8 @@ model's own array methods, evaluated for unit depth:
   ``du/dx >= 0``, ``K_pass`` where ``du/dx < 0``) from the velocity gradient;
 - the drive is the momentum row of the model's source at ``h = 1`` (``sin zeta``);
 - the friction is the model's resistance at ``h = 1`` (``tan delta (cos zeta + lambda kappa u^2)``),
-  a magnitude that the caller applies with the stopping rule of reference §1 (it may stop the
+  a magnitude that the caller applies with the stopping rule (docs/design.md, "Savage–Hutter
+  specifics") (it may stop the
   material but never accelerate or reverse it).
 """
 

@@ -1,7 +1,8 @@
 """The Nessyahu–Tadmor non-oscillatory central (NOC) staggered scheme.
 
 Tai, Noelle, Gray & Hutter (2001), eqs. (10)–(18); Nessyahu & Tadmor (1990). The default path is a
-fused, compiled kernel (:mod:`conslaw.kernels.nt_template`) that advances many step pairs per call;
+fused, compiled kernel (:mod:`~conslaw.schemes.nessyahu_tadmor.kernel_template`) that advances
+many step pairs per call;
 :meth:`NessyahuTadmor.reference_step` is an independent numpy implementation used to test it.
 """
 
@@ -14,8 +15,6 @@ from numpy.typing import NDArray
 
 from conslaw.errors import ConfigError, InadmissibleStateError, SchemeBreakdownError
 from conslaw.grid import Grid
-from conslaw.kernels.codegen import nt_kernels
-from conslaw.kernels.constants import DEPTH_SLOPE_LIMIT, THIN_TAIL
 from conslaw.model import Model
 from conslaw.reconstruct import Reconstructor
 from conslaw.reconstruct.base import STENCIL_HALF_WIDTH
@@ -26,6 +25,8 @@ from conslaw.schemes.base import (
     ProgressCallback,
     Scheme,
 )
+from conslaw.schemes.nessyahu_tadmor.constants import DEPTH_SLOPE_LIMIT, THIN_TAIL
+from conslaw.schemes.nessyahu_tadmor.kernels import nt_kernels
 from conslaw.state import State
 
 Array = NDArray[np.float64]

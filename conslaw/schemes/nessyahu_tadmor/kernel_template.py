@@ -1,7 +1,8 @@
 """Template: the fused Nessyahu–Tadmor (NOC) kernels, Tai et al. (2001) eqs. (10)–(18).
 
-Generated per (model, reconstructor, boundary pair) by :func:`conslaw.kernels.codegen.nt_kernels`;
-do not import directly. Layout: padded arrays ``w[v, NG + i]`` for the ``n`` real cells ``i``.
+Generated per (model, reconstructor, boundary pair) by
+:func:`~conslaw.schemes.nessyahu_tadmor.kernels.nt_kernels`; do not import directly. Layout:
+padded arrays ``w[v, NG + i]`` for the ``n`` real cells ``i``.
 
 One step maps cell family A to family B, whose cell ``k`` spans the centres of A-cells
 ``L = NG + shift + k`` and ``R = L + 1`` (``shift = -1`` primary -> staggered, ``0`` back):
@@ -23,13 +24,12 @@ How the kernel is made fast without a second copy of the physics:
   positivity check or the static-equilibrium test, and no copy of an accepted step: the three
   state buffers are rotated.
 - **Registers, not arrays, per cell.** The model's pointwise functions fill small arrays; here
-  those are stack arrays of a compile-time size (:mod:`conslaw.kernels.scratch`). After inlining,
+  those are stack arrays of a compile-time size (:mod:`conslaw.kernelgen.stack`). After inlining,
   LLVM keeps them in registers, and the loops over the cells of a block compile to SIMD code.
 - **Rare work out of the per-cell loops.** The thin-tail velocity bound acts in a few cells,
   so :func:`average_cells` only counts them and :func:`bound_tail_velocities` bounds them in a
-  second pass over the block (dam-break-wet, N = 6400: 0.27 s with the velocity ranges of every
-  source cell computed in :func:`predict_cells`, 0.34 s with the ranges computed in a branch of
-  the loop, where the call kept it from vectorising, 0.20 s with the second pass).
+  second pass over the block (a branch in the loop kept it from vectorising; docs/performance.md,
+  "How the kernel is fast").
 - **Unsigned column indices** (:func:`col`): numba wraps negative indices around, a select per
   access that would turn every load into a gather; the kernel's indices are never negative.
 - **Compile-time switches** (constants of the generated module; unused branches are removed):
@@ -59,11 +59,11 @@ operation (no fast-math), so the two agree to round-off.
 import numpy as np  # noqa: I001 (the binding block below is replaced when generated)
 from numba import njit
 
-from conslaw.kernels.constants import DEPTH_SLOPE_LIMIT, THIN_TAIL
-from conslaw.kernels.scratch import local_matrix, local_vector
+from conslaw.schemes.nessyahu_tadmor.constants import DEPTH_SLOPE_LIMIT, THIN_TAIL
+from conslaw.kernelgen.stack import local_matrix, local_vector
 
 # --- bindings ---
-from conslaw.kernels.placeholders import (
+from conslaw.pointwise import (
     admissible_point as _admissible_point,
     balanced_source_point as _balanced_source_point,
     coefficients_point as _coefficients_point,
@@ -142,32 +142,32 @@ STACK_SIZE = 64
 LANES = 8
 
 
-def work_size(n_cells):  # type: ignore[no-untyped-def]
+def work_size(n_cells):
     """Length of the work array for steps of up to ``n_cells`` new cells (plain Python)."""
     return WORK_SIZE + (3 * (n_cells + 2) if HAS_REST_COEFFICIENTS else 0)
 
 
 @njit(cache=True)
-def rest_slot(work, row, g):  # type: ignore[no-untyped-def]
+def rest_slot(work, row, g):
     """Index of entry ``g`` of rest row ``row`` in the work array."""
     stride = (work.size - WORK_SIZE) // 3
     return np.uintp(WORK_SIZE + row * stride + g)
 
 
 @njit(cache=True)
-def col(i):  # type: ignore[no-untyped-def]
+def col(i):
     """A column index as an unsigned integer (numba then skips its negative-index wrap-around)."""
     return np.uintp(i)
 
 
 @njit(cache=True)
-def slot(row, j):  # type: ignore[no-untyped-def]
+def slot(row, j):
     """Index of column j of a work row."""
     return np.uintp(row * STRIDE + j)
 
 
 @njit(cache=True)
-def load_params(params, local):  # type: ignore[no-untyped-def]
+def load_params(params, local):
     """Copy the parameters into a stack array: the compiler then knows that no store to the state
     changes them, keeps them in registers and hoists them out of the loops."""
     for k in range(NPARAMS):
@@ -175,13 +175,13 @@ def load_params(params, local):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def fill_ghosts(w, n, staggered, bc_left, bc_right):  # type: ignore[no-untyped-def]
+def fill_ghosts(w, n, staggered, bc_left, bc_right):
     _fill_left(w, n, NG, staggered, bc_left)
     _fill_right(w, n, NG, staggered, bc_right)
 
 
 @njit(cache=True, error_model="numpy")
-def max_speed(w, n, aux, params):  # type: ignore[no-untyped-def]
+def max_speed(w, n, aux, params):
     """Largest wave speed over the real cells; ``(-1, i)`` at the first inadmissible cell i,
     ``(-2, i)`` at the first cell whose wave speed is not finite (an overflow)."""
     state = local_vector(NV)
@@ -204,7 +204,7 @@ def max_speed(w, n, aux, params):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, error_model="numpy")
-def source_step_limit(w, n, aux, parameters, cfl, dx):  # type: ignore[no-untyped-def]
+def source_step_limit(w, n, aux, parameters, cfl, dx):
     """``sqrt(cfl dx / (2 a))``, ``a = max |s_m| / h`` over the wet real cells: over a step pair
     from rest the source builds up the velocity ``2 a dt``, which must itself meet the CFL
     condition (``2 a dt^2 / dx <= cfl``). inf without a source or a depth (see
@@ -236,13 +236,13 @@ def source_step_limit(w, n, aux, parameters, cfl, dx):  # type: ignore[no-untype
 
 
 @njit(cache=True)
-def failure(code):  # type: ignore[no-untyped-def]
+def failure(code):
     """Status for a failed ``max_speed`` (its negative speed is the reason code)."""
     return STATUS_SPEED_NOT_FINITE if code == -2.0 else STATUS_INADMISSIBLE
 
 
 @njit(cache=True)
-def count_moving(w, n):  # type: ignore[no-untyped-def]
+def count_moving(w, n):
     """Number of real cells with a non-zero momentum (0 without a momentum row)."""
     moving = 0
     if MOMENTUM >= 0:
@@ -253,20 +253,20 @@ def count_moving(w, n):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def copy_cells(src, dst, n):  # type: ignore[no-untyped-def]
+def copy_cells(src, dst, n):
     for v in range(NV):
         for i in range(NG, NG + n):
             dst[v, col(i)] = src[v, col(i)]
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def cell_slope(src, v, i, dx, aux_centre):  # type: ignore[no-untyped-def]
+def cell_slope(src, v, i, dx, aux_centre):
     """Slope of variable v in padded cell i, with the depth rules of the compile-time switches."""
     return stencil_slope(src, src, v, i, dx, aux_centre)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def stencil_slope(data, src, v, i, dx, aux_centre):  # type: ignore[no-untyped-def]
+def stencil_slope(data, src, v, i, dx, aux_centre):
     """Slope of variable v in padded cell i read from the stencil values ``data``, limited with
     the depth of the cell in ``src`` (front tracking continues the body across a margin in
     ``data``; the plain scheme passes ``data = src``)."""
@@ -305,7 +305,7 @@ def stencil_slope(data, src, v, i, dx, aux_centre):  # type: ignore[no-untyped-d
 
 
 @njit(cache=True, error_model="numpy")
-def cell_velocity(src, i):  # type: ignore[no-untyped-def]
+def cell_velocity(src, i):
     """``m / h`` of padded cell i, 0 if dry. Written without a branch around the division, so
     that the loads of h and m stay unconditional (a load in a branch cannot be vectorised)."""
     depth = src[DEPTH, col(i)]
@@ -315,7 +315,7 @@ def cell_velocity(src, i):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def bound_momentum_slope(depth, momentum, slope, u_left, u_centre, u_right):  # type: ignore[no-untyped-def]
+def bound_momentum_slope(depth, momentum, slope, u_left, u_centre, u_right):
     """Clamp the momentum slope so that the velocities at both quarter points,
     ``(m +- m'/4) / (h +- h'/4)``, lie between the smallest and largest velocity of the cell
     and its two neighbours. The interval always contains ``m' = u h'``, so it is never empty."""
@@ -334,7 +334,7 @@ def bound_momentum_slope(depth, momentum, slope, u_left, u_centre, u_right):  # 
 
 
 @njit(cache=True)
-def resist(momentum, impulse):  # type: ignore[no-untyped-def]
+def resist(momentum, impulse):
     """Apply a resistive impulse ``impulse >= 0`` against ``momentum``: it stops the flow
     exactly (returns 0.0) when it is at least as large, and never reverses it."""
     if abs(momentum) <= impulse:
@@ -343,7 +343,7 @@ def resist(momentum, impulse):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def velocity_range(src, i, dt, aux_centre, params, state, coefficients, out):  # type: ignore[no-untyped-def]
+def velocity_range(src, i, dt, aux_centre, params, state, coefficients, out):
     """``(u - 2c - dt a, u + 2c + dt a)`` of padded cell i: its Riemann invariants (``c`` the
     wave speed less ``|u|``), widened by the velocity a source and a resistance can add or remove
     in one step (``a = (|s_m| + R) / h``).
@@ -374,7 +374,7 @@ def velocity_range(src, i, dt, aux_centre, params, state, coefficients, out):  #
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def predict_point(  # type: ignore[no-untyped-def]
+def predict_point(
     state, slope, coefficients, params, half_dt, inverse_dx, matrix, rate, result, predicted
 ):
     """The predictor of one cell, eq. (15): ``predicted = w + dt/2 (-A(w) w'/dx + s(w))``, then
@@ -402,7 +402,7 @@ def predict_point(  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def tail_velocity_range(src, i, dt, aux_centre, params, state, coefficients, out):  # type: ignore[no-untyped-def]
+def tail_velocity_range(src, i, dt, aux_centre, params, state, coefficients, out):
     """Smallest lower and largest upper end of :func:`velocity_range` over padded cells
     ``i .. i + 3`` (the four source cells of a new cell); ``state``, ``coefficients`` and ``out``
     are scratch."""
@@ -417,7 +417,7 @@ def tail_velocity_range(src, i, dt, aux_centre, params, state, coefficients, out
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def rest_flux_span(predicted, coefficients, aux_centre, c, params, ratio, work, j):  # type: ignore[no-untyped-def]
+def rest_flux_span(predicted, coefficients, aux_centre, c, params, ratio, work, j):
     """The FLUX_LOW and FLUX_SPAN rows of source cell ``c`` (work column ``j``) from its
     mid-step state; ``coefficients`` is scratch."""
     high = local_vector(NAUX)
@@ -434,7 +434,7 @@ def rest_flux_span(predicted, coefficients, aux_centre, c, params, ratio, work, 
 
 
 @njit(cache=True, error_model="numpy")
-def predict_cells(  # type: ignore[no-untyped-def]
+def predict_cells(
     src, first, count, dt, dx, aux_centre, aux_left_quarter, aux_right_quarter, parameters, work
 ):
     """For source cells ``first .. first + count - 1`` (work columns ``0 .. count - 1``): slope,
@@ -512,7 +512,7 @@ def predict_cells(  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def new_cell_speed(state, coefficients, params):  # type: ignore[no-untyped-def]
+def new_cell_speed(state, coefficients, params):
     """Largest wave speed of a new cell, NaN if it is inadmissible (the SPEED row)."""
     speed = np.nan
     if _admissible_point(state, coefficients, params):
@@ -521,13 +521,13 @@ def new_cell_speed(state, coefficients, params):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, inline="always")
-def no_finite_speed(speed):  # type: ignore[no-untyped-def]
+def no_finite_speed(speed):
     """Whether a SPEED-row value is not a finite wave speed >= 0 (inadmissible, or overflow)."""
     return not (speed >= 0.0 and speed < np.inf)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def in_thin_tail(src, left, depth):  # type: ignore[no-untyped-def]
+def in_thin_tail(src, left, depth):
     """Whether a new cell of depth ``depth`` over source cells ``left``, ``left + 1`` is a thin
     tail: wet, and shallower than ``THIN_TAIL`` times the deepest of its four source cells
     ``left - 1 .. left + 2`` (where the velocity bound of :func:`bound_tail_velocities` acts)."""
@@ -539,7 +539,7 @@ def in_thin_tail(src, left, depth):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def bounded_tail_momentum(  # type: ignore[no-untyped-def]
+def bounded_tail_momentum(
     src, left, depth, momentum, dt, aux_centre, params, state, coefficients, out
 ):
     """``(momentum, changed)`` of a new cell of depth ``depth`` over source cells ``left``,
@@ -558,9 +558,7 @@ def bounded_tail_momentum(  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, error_model="numpy")
-def bound_tail_velocities(  # type: ignore[no-untyped-def]
-    src, dst, first, dst_first, count, dt, aux_centre, aux_dst, params, work
-):
+def bound_tail_velocities(src, dst, first, dst_first, count, dt, aux_centre, aux_dst, params, work):
     """In each thin tail (:func:`in_thin_tail`) among the new cells ``dst_first ..
     dst_first + count - 1``, clamp the velocity to the range of its four source cells
     (:func:`tail_velocity_range`), and redo its wave speed in the SPEED row.
@@ -599,7 +597,7 @@ def bound_tail_velocities(  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def interface_fluxes(  # type: ignore[no-untyped-def]
+def interface_fluxes(
     state_left, state_right, aux_centre, left, right, params, flux_left, flux_right
 ):
     """The fluxes at the two ends of a new cell, at the centres of its source cells ``left``,
@@ -618,9 +616,7 @@ def interface_fluxes(  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, error_model="numpy")
-def average_cells(  # type: ignore[no-untyped-def]
-    src, dst, first, dst_first, count, dt, dx, aux_centre, aux_dst, parameters, work
-):
+def average_cells(src, dst, first, dst_first, count, dt, dx, aux_centre, aux_dst, parameters, work):
     """The new cells ``dst_first .. dst_first + count - 1`` (eq. 10) from source cells
     ``first ..`` and the work columns ``0 .. count``; the wave speed of each new cell goes to the
     SPEED row (NaN if inadmissible). Returns how many new cells have a negative depth, a non-zero
@@ -687,7 +683,8 @@ def average_cells(  # type: ignore[no-untyped-def]
             work[rest_slot(work, REST_SPAN, g)] = work[slot(FLUX_SPAN, j)]
             work[rest_slot(work, REST_SPAN, g + 1)] = work[slot(FLUX_SPAN, j + 1)]
         if HAS_RESISTANCE:
-            # Eqs. (13)-(14) for the resistance, applied with the stopping rule (reference §1).
+            #  Eqs. (13)-(14) for the resistance, applied with the stopping rule (docs/design.md,
+            # "Savage–Hutter specifics").
             impulse = half_dt * (work[slot(RESIST_RIGHT, j)] + work[slot(RESIST_LEFT, j + 1)])
             if HAS_REST_COEFFICIENTS:
                 work[rest_slot(work, REST_IMPULSE, dst_first - NG + j)] = impulse
@@ -721,7 +718,7 @@ def average_cells(  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def holdable(work, g):  # type: ignore[no-untyped-def]
+def holdable(work, g):
     """Whether new cell ``g`` could be brought to rest with both its ends free: its momentum
     with the low end of the rest range, changed by at most the spans at its two ends, within
     its impulse (a filter: the runs themselves fix the ends of each run)."""
@@ -733,7 +730,7 @@ def holdable(work, g):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, error_model="numpy")
-def longest_held_from(work, start, stop):  # type: ignore[no-untyped-def]
+def longest_held_from(work, start, stop):
     """The largest ``end`` in ``start .. stop - 1`` such that some choice of the flux changes
     ``d_c`` in ``[0, REST_SPAN_c]`` at the interior centres of new cells ``start .. end``
     (``d = 0`` at both ends of the run) brings every one of them within its impulse of rest;
@@ -758,7 +755,7 @@ def longest_held_from(work, start, stop):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def stop_cells(dst, start, stop):  # type: ignore[no-untyped-def]
+def stop_cells(dst, start, stop):
     """Set the momentum of new cells ``start .. stop - 1`` to 0; returns how many moved."""
     stopped = 0
     for g in range(start, stop):
@@ -770,7 +767,7 @@ def stop_cells(dst, start, stop):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, error_model="numpy")
-def hold_static_runs(dst, n_dst, seam, work):  # type: ignore[no-untyped-def]
+def hold_static_runs(dst, n_dst, seam, work):
     """Stop the runs of new cells that friction and a statically admissible earth pressure
     bring to rest within the step; returns how many of them this stopped (their momentum is
     set to 0). The implicit treatment of the set-valued laws at rest: as the stopping rule
@@ -835,7 +832,7 @@ def hold_static_runs(dst, n_dst, seam, work):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def block_speed(work, count):  # type: ignore[no-untyped-def]
+def block_speed(work, count):
     """Largest value of the SPEED row (all finite and >= 0), as LANES partial maxima that the
     compiler turns into one SIMD maximum per LANES cells."""
     lanes = local_vector(LANES)
@@ -857,7 +854,7 @@ def block_speed(work, count):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, error_model="numpy")
-def nt_step(  # type: ignore[no-untyped-def]
+def nt_step(
     src,
     dst,
     n_src,
@@ -918,7 +915,7 @@ def nt_step(  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, error_model="numpy")
-def depth_share(w, i, side, dt, dx, aux, parameters):  # type: ignore[no-untyped-def]
+def depth_share(w, i, side, dt, dx, aux, parameters):
     """The part of the depth of padded cell i that a step hands to the new cell on its ``side``
     (+1: right, -1: left), as :func:`average_cells` forms it (eq. 10):
     ``h/2 + side (h'/8 + dt/dx f_h(w^{n+1/2}))``, with the slope, predictor and flux of
@@ -951,7 +948,7 @@ def depth_share(w, i, side, dt, dx, aux, parameters):  # type: ignore[no-untyped
 
 
 @njit(cache=True)
-def at_rest(w0, w2, j):  # type: ignore[no-untyped-def]
+def at_rest(w0, w2, j):
     """Whether primary cell ``j`` was at rest through a step pair: dry at its start, or holding
     no momentum before (``w0``) and after (``w2``) it (friction held it)."""
     c = col(NG + j)
@@ -961,7 +958,7 @@ def at_rest(w0, w2, j):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True, error_model="numpy")
-def face_transfer(w0, w1, face, dt, dx, aux0, aux1, params):  # type: ignore[no-untyped-def]
+def face_transfer(w0, w1, face, dt, dx, aux0, aux1, params):
     """The depth a step pair moved rightwards across primary face ``face`` (between primary
     cells ``face - 1`` and ``face``; ghost cells at the boundaries): what the first step handed
     from cell ``face - 1`` to the staggered cell centred on the face less what the second step
@@ -978,7 +975,7 @@ def face_transfer(w0, w1, face, dt, dx, aux0, aux1, params):  # type: ignore[no-
 
 
 @njit(cache=True, error_model="numpy")
-def face_correction(w0, w1, w2, face, rest_left, dt, dx, aux0, aux1, params):  # type: ignore[no-untyped-def]
+def face_correction(w0, w1, w2, face, rest_left, dt, dx, aux0, aux1, params):
     """``(moved, returned)`` at an interior face with exactly one side at rest (the left one if
     ``rest_left``): the depth the pair moved across it rightwards, and the part of it that is
     taken back. Depth crosses only if the material of the moving side moves towards the face
@@ -1003,7 +1000,7 @@ def face_correction(w0, w1, w2, face, rest_left, dt, dx, aux0, aux1, params):  #
 
 
 @njit(cache=True, error_model="numpy")
-def hold_resting_cells(w0, w1, w2, n0, dt, dx, aux0, aux1, params, work):  # type: ignore[no-untyped-def]
+def hold_resting_cells(w0, w1, w2, n0, dt, dx, aux0, aux1, params, work):
     """Give back, in ``w2`` (the state after a step pair from ``w0`` through ``w1``), every depth
     that the pair moved out of a cell at rest (:func:`at_rest`): material held by friction
     stays where it is (``h_t = -m_x = 0`` there). Without this, the staggered averaging moves
@@ -1091,7 +1088,7 @@ def hold_resting_cells(w0, w1, w2, n0, dt, dx, aux0, aux1, params, work):  # typ
 
 
 @njit(cache=True)
-def finish(buffers, now, n0, t, pairs, status, family, cell, dt):  # type: ignore[no-untyped-def]
+def finish(buffers, now, n0, t, pairs, status, family, cell, dt):
     """Leave the primary state in ``buffers[0]`` and return the result of :func:`advance`."""
     if now != 0:
         copy_cells(buffers[now], buffers[0], n0)
@@ -1099,7 +1096,7 @@ def finish(buffers, now, n0, t, pairs, status, family, cell, dt):  # type: ignor
 
 
 @njit(cache=True, error_model="numpy")
-def advance(  # type: ignore[no-untyped-def]
+def advance(
     w0,
     w1,
     w2,

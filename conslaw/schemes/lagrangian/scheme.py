@@ -1,4 +1,5 @@
-"""The Lagrangian moving-grid scheme of Savage & Hutter (1989, 1991), reference §4.
+"""The Lagrangian moving-grid scheme of Savage & Hutter (1989, 1991) (docs/design.md, "The
+Lagrangian moving grid").
 
 The body of material is cut into ``n`` elements between ``n + 1`` nodes that move with it:
 
@@ -11,7 +12,8 @@ front), and the artificial viscosity ``mu`` (Savage & Hutter used 0.01-0.03; 0 s
 instability at shocks, Tai et al. 2001, Fig. 3), applied at the interior nodes. Mass is
 conserved exactly: it is carried by the fixed volumes. ``beta``, the driving force and the
 Coulomb friction are the model's own, per unit depth (:mod:`conslaw.schemes.unit_depth`); the
-friction is applied with the stopping rule of reference §1, so it can hold a node at rest but
+friction is applied with the stopping rule (docs/design.md, "Savage–Hutter specifics"), so it can
+hold a node at rest but
 never reverse it.
 
 **Time integration**: velocity Verlet (Störmer–Verlet, "kick-drift-kick"; Hairer, Lubich &
@@ -66,7 +68,7 @@ from conslaw.schemes.base import (
     Scheme,
     SchemeOption,
 )
-from conslaw.schemes.nessyahu_tadmor import DT_FLOOR_RELATIVE, _resist, validate_cfl
+from conslaw.schemes.nessyahu_tadmor.scheme import DT_FLOOR_RELATIVE, _resist, validate_cfl
 from conslaw.schemes.projection import project_onto_grid
 from conslaw.schemes.unit_depth import unit_depth_forces
 from conslaw.state import LagrangianNodes, Margin, Margins, State
@@ -181,7 +183,8 @@ class LagrangianScheme(Scheme):
         The artificial viscosity ``mu >= 0`` (scene: ``[scheme_options] viscosity``).
     pressure : {"gradient", "flux"}
         The pressure term at the interior nodes: ``beta (h_i - h_{i-1}) / (xbar_i - xbar_{i-1})``
-        (reference §4, the default) or the difference of ``beta h^2 / 2`` over the node's
+        (docs/design.md, "The Lagrangian moving grid"; the default) or the difference of ``beta h^2
+        / 2`` over the node's
         lumped mass (conservative in the mass coordinate).
     """
 
@@ -201,7 +204,7 @@ class LagrangianScheme(Scheme):
         ),
         "pressure": SchemeOption(
             "gradient",
-            "gradient: beta dh/dx at the nodes (reference §4, Savage & Hutter); flux: the "
+            "gradient: beta dh/dx at the nodes (Savage & Hutter 1989); flux: the "
             "difference of beta h^2/2 over the node mass (conservative)",
             _check_pressure,
         ),

@@ -1,16 +1,16 @@
 """Template: compiled loops over cells of a model's pointwise functions.
 
-Generated per model by :func:`conslaw.kernels.codegen.model_array_kernels`; do not import directly.
+Generated per model by :meth:`conslaw.model.Model._compiled_arrays`; do not import directly.
 The per-cell vectors are stack arrays of the compile-time sizes ``NV`` and ``NAUX`` (see
-:mod:`conslaw.kernels.scratch`).
+:mod:`conslaw.kernelgen.stack`).
 """
 
 from numba import njit  # noqa: I001 (the binding block below is replaced when generated)
 
-from conslaw.kernels.scratch import local_matrix, local_vector
+from conslaw.kernelgen.stack import local_matrix, local_vector
 
 # --- bindings ---
-from conslaw.kernels.placeholders import (
+from conslaw.pointwise import (
     admissible_point as _admissible_point,
     balanced_source_point as _balanced_source_point,
     coefficients_point as _coefficients_point,
@@ -37,7 +37,7 @@ HAS_REST_COEFFICIENTS = False
 
 
 @njit(cache=True)
-def load_column(q, aux, i, state, coefficients):  # type: ignore[no-untyped-def]
+def load_column(q, aux, i, state, coefficients):
     """Copy column i of the state and of the coefficients into the scratch vectors."""
     for v in range(NV):
         state[v] = q[v, i]
@@ -46,7 +46,7 @@ def load_column(q, aux, i, state, coefficients):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def flux_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
+def flux_cells(q, aux, params, out):
     state = local_vector(NV)
     result = local_vector(NV)
     coefficients = local_vector(NAUX)
@@ -58,7 +58,7 @@ def flux_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def jacobian_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
+def jacobian_cells(q, aux, params, out):
     state = local_vector(NV)
     matrix = local_matrix(NV)
     coefficients = local_vector(NAUX)
@@ -71,7 +71,7 @@ def jacobian_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def max_speed_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
+def max_speed_cells(q, aux, params, out):
     state = local_vector(NV)
     coefficients = local_vector(NAUX)
     for i in range(q.shape[1]):
@@ -80,7 +80,7 @@ def max_speed_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def source_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
+def source_cells(q, aux, params, out):
     state = local_vector(NV)
     result = local_vector(NV)
     for v in range(NV):
@@ -95,7 +95,7 @@ def source_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def admissible_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
+def admissible_cells(q, aux, params, out):
     state = local_vector(NV)
     coefficients = local_vector(NAUX)
     for i in range(q.shape[1]):
@@ -104,7 +104,7 @@ def admissible_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def balanced_source_cells(q, aux, dx, params, out):  # type: ignore[no-untyped-def]
+def balanced_source_cells(q, aux, dx, params, out):
     left = local_vector(NV)
     right = local_vector(NV)
     result = local_vector(NV)
@@ -126,7 +126,7 @@ def balanced_source_cells(q, aux, dx, params, out):  # type: ignore[no-untyped-d
 
 
 @njit(cache=True)
-def correct_cells(q, aux, params, dt):  # type: ignore[no-untyped-def]
+def correct_cells(q, aux, params, dt):
     state = local_vector(NV)
     coefficients = local_vector(NAUX)
     for i in range(q.shape[1]):
@@ -138,7 +138,7 @@ def correct_cells(q, aux, params, dt):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def resistance_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
+def resistance_cells(q, aux, params, out):
     state = local_vector(NV)
     coefficients = local_vector(NAUX)
     for i in range(q.shape[1]):
@@ -148,7 +148,7 @@ def resistance_cells(q, aux, params, out):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def coefficients_cells(q, slopes, aux, params):  # type: ignore[no-untyped-def]
+def coefficients_cells(q, slopes, aux, params):
     state = local_vector(NV)
     slope = local_vector(NV)
     coefficients = local_vector(NAUX)
@@ -165,7 +165,7 @@ def coefficients_cells(q, slopes, aux, params):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def interface_coefficients_cells(left, right, aux_left, aux_right, params):  # type: ignore[no-untyped-def]
+def interface_coefficients_cells(left, right, aux_left, aux_right, params):
     state_left = local_vector(NV)
     state_right = local_vector(NV)
     coefficients_left = local_vector(NAUX)
@@ -183,7 +183,7 @@ def interface_coefficients_cells(left, right, aux_left, aux_right, params):  # t
 
 
 @njit(cache=True)
-def rest_coefficients_cells(low, high, params):  # type: ignore[no-untyped-def]
+def rest_coefficients_cells(low, high, params):
     coefficients_low = local_vector(NAUX)
     coefficients_high = local_vector(NAUX)
     for i in range(low.shape[1]):

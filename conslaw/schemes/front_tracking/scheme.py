@@ -6,7 +6,7 @@ is in Tai, Noelle, Gray & Hutter, J. Comput. Phys. 175 (2002). The body occupies
 
 - **Margin cells.** The cell holding a margin is reconstructed linearly from ``h = 0`` at the
   margin, with the cell average unchanged (front margin in ``[a, b]``:
-  ``h(a) = 2 hbar dx / (x_F - a)``, reference §3), and ``h = 0`` beyond it; the velocity in it is
+  ``h(a) = 2 hbar dx / (x_F - a)``, paper Fig. 2), and ``h = 0`` beyond it; the velocity in it is
   linear with the inner cells' gradient and the cell's mean. The NT update (eqs. 10-14)
   integrates this reconstruction exactly over the half cells and takes the mid-step point value
   at the cell centre from the triangle carried to the margin's mid-step position.
@@ -22,7 +22,8 @@ is in Tai, Noelle, Gray & Hutter, J. Comput. Phys. 175 (2002). The body occupies
 - **Margin motion.** ``dx_M/dt = u_M`` with ``du_M/dt = s_x - beta dh/dx`` (eq. 19, the
   ``h -> 0`` limit of the momentum equation). ``beta``, the driving force and the Coulomb
   friction come from the model (Jacobian entry ``A[1,0]`` at ``h = 1, u = 0``, source and
-  resistance per unit depth), the friction with the stopping rule of reference §1. ``dh/dx`` at
+  resistance per unit depth), the friction with the stopping rule (docs/design.md, "Savage–Hutter
+  specifics"). ``dh/dx`` at
   the margin is the slope of the quadratic ``h = S d - C d^2`` (``d`` the distance from the
   margin) that holds the masses of the margin cell and its two inner neighbours.
 - **Crossing a cell face.** After each step, whatever the update left in cells wholly outside
@@ -45,11 +46,11 @@ from numpy.typing import NDArray
 from conslaw.errors import ConfigError, InadmissibleStateError, SchemeBreakdownError
 from conslaw.grid import Grid
 from conslaw.initial import InitialCondition
-from conslaw.kernels.codegen import ft_kernels
 from conslaw.model import Model
 from conslaw.reconstruct import Reconstructor
 from conslaw.schemes.base import AdvanceResult, BoundarySpec, ProgressCallback
-from conslaw.schemes.nessyahu_tadmor import (
+from conslaw.schemes.front_tracking.kernels import ft_kernels
+from conslaw.schemes.nessyahu_tadmor.scheme import (
     DT_FLOOR_RELATIVE,
     GHOSTS,
     NessyahuTadmor,
@@ -312,15 +313,22 @@ class MarginCellHooks(SubcellHooks):
 class FrontTrackingNT(NessyahuTadmor):
     """Nessyahu–Tadmor with front tracking of the avalanche margins (NOC-FT).
 
-    Chosen with ``front_tracking = true`` in a scene. Needs a model with a depth and a momentum
-    variable (``q = (h, hu)``) and no staggered-cell (well-balanced) bed source; the states carry
-    their :class:`~conslaw.state.Margins`. Steps go in pairs with one ``dt``, redone with half the
+    Chosen with ``scheme = "front-tracking"`` in a scene (``front_tracking = true`` with the
+    nessyahu-tadmor scheme, the form of earlier scene files, means the same). Needs a model with
+    a depth and a momentum variable (``q = (h, hu)``) and no staggered-cell (well-balanced) bed
+    source; the states carry their :class:`~conslaw.state.Margins`. Steps go in pairs with one
+    ``dt``, redone with half the
     time step if a depth would become negative. :meth:`advance` runs compiled
-    (:mod:`conslaw.kernels.ft_template`, generated with the model's point functions);
+    (:mod:`~conslaw.schemes.front_tracking.kernel_template`, generated with the model's point
+    functions);
     :meth:`reference_advance` and :meth:`step` are the numpy reference (the NT update with the
     margin-cell hooks of :class:`MarginCellHooks`), which the compiled path equals to round-off.
     """
 
+    name = "front-tracking"
+    description = (
+        "Nessyahu–Tadmor with front tracking of the margins (NOC-FT), paper Fig. 2 and eq. (19)"
+    )
     needs_single_body = True
 
     def __init__(

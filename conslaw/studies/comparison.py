@@ -4,7 +4,8 @@ Every variant is the scene with another scheme (and its options, ``lagrangian:vi
 everything else equal; all are validated before the first run. A variant that breaks down
 (:class:`~conslaw.errors.SchemeBreakdownError`) does not stop the comparison: its row says where it
 broke down, and the figure shows the states it reached, the last one marked. The table holds, per
-variant, the reference §6 errors of ``h`` at ``t_end`` against the exact cell averages (where the
+variant, the errors (docs/equations.md, "Error norms") of ``h`` at ``t_end`` against the exact cell
+averages (where the
 scene has an exact solution), the steps, the solve time and the mass drift.
 
 :func:`runout_comparison` builds the Fig. 3-style comparison of the paper (sh-runout-shock with
@@ -97,8 +98,8 @@ class Comparison:
             return f"no exact solution: {self.exact_note}"
         return (
             f"errors of h at t = {self.scene.t_end:g} against the exact cell averages on the "
-            f"scene's grid ({self.scene.n_cells} cells; reference §6 norm); solve time without "
-            "compilation, in parentheses the wall time to the breakdown"
+            f"scene's grid ({self.scene.n_cells} cells; the L1 norm of docs/equations.md); "
+            "solve time without compilation, in parentheses the wall time to the breakdown"
         )
 
 

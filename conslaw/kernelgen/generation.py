@@ -25,12 +25,8 @@ import threading
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from types import CodeType, ModuleType
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
-if TYPE_CHECKING:
-    from conslaw.model import Model
-
-_TEMPLATE_DIR = Path(__file__).resolve().parent
 _BEGIN = "# --- bindings ---"
 _END = "# --- end bindings ---"
 _loaded: dict[str, ModuleType] = {}
@@ -198,7 +194,7 @@ def generate(
     Parameters
     ----------
     template : str or Path
-        A template file: a path, or a file name in this package (e.g. ``"nt_template.py"``).
+        The template file (a Python module with a binding block).
     bindings : mapping
         Placeholder name -> module-level compiled function.
     constants : mapping, optional
@@ -211,16 +207,14 @@ def generate(
     Notes
     -----
     Every line of the generated module outside the binding block is the template's line of the
-    same number. The file name is ``conslaw_kernel_<template>_<identity>_<digest>``: the identity
-    hashes what was asked for (template, bindings, constants, imports), the digest everything the
+    same number. The file name is ``conslaw_kernel_<folder>_<template>_<identity>_<digest>``: the
+    identity hashes what was asked for (template, bindings, constants, imports), the digest all the
     compiled code depends on (:func:`dependency_sources`). A module of the same identity and
     another digest is stale; it is removed, with numba's cache files of it, when the new one is
     written.
     """
     imports = dict(imports or {})
-    path = Path(template)
-    if not path.is_absolute():
-        path = _TEMPLATE_DIR / path
+    path = Path(template).resolve()
     text = path.read_text()
     for name, module in sorted(imports.items()):
         text = text.replace(f"from {name} import", f"from {module.__name__} import")
@@ -239,9 +233,12 @@ def generate(
         raise ValueError(f"{path.name} has no binding block ({_BEGIN!r} ... {_END!r})")
     else:
         body = text
-    identity = hashlib.sha256("\0".join([str(path), *statements, *sorted(imports)]).encode())
+    # An imported generated module enters by its own identity, so the same template with other
+    # imported kernels is another family (and is not pruned as a stale copy of this one).
+    imported = [f"{name}={module.__kernel_family__}" for name, module in sorted(imports.items())]
+    identity = hashlib.sha256("\0".join([str(path), *statements, *imported]).encode())
     digest = hashlib.sha256("\0".join([body, *dependency_sources(roots)]).encode())
-    family = f"conslaw_kernel_{path.stem}_{identity.hexdigest()[:12]}"
+    family = f"conslaw_kernel_{path.parent.name}_{path.stem}_{identity.hexdigest()[:12]}"
     module_name = f"{family}_{digest.hexdigest()[:16]}"
     with _lock:
         if module_name in _loaded:
@@ -263,115 +260,6 @@ def generate(
         except BaseException:
             del sys.modules[module_name]
             raise
+        setattr(module, "__kernel_family__", family)  # noqa: B010 (an attribute of our own)
         _loaded[module_name] = module
         return module
-
-
-def _model_bindings(model_class: type[Model]) -> dict[str, Callable[..., Any]]:
-    from conslaw.kernels import placeholders
-    from conslaw.kernels.defaults import finite_point
-
-    return {
-        "_flux_point": model_class.flux_point,
-        "_jacobian_point": model_class.jacobian_point,
-        "_max_speed_point": model_class.max_speed_point,
-        "_source_point": model_class.source_point or placeholders.source_point,
-        "_admissible_point": model_class.admissible_point or finite_point,
-    }
-
-
-def _model_constants(model: Model) -> dict[str, bool | int | float]:
-    uses = model.capabilities()
-    bed, bed_slope = model.surface_aux if uses["surface"] and model.surface_aux else (-1, -1)
-    depth = model.depth_index
-    return {
-        "NV": int(model.n_vars),
-        "NAUX": int(model.n_aux),
-        "NPARAMS": len(model.param_vector()),
-        "HAS_SOURCE": uses["source"],
-        "HAS_BALANCED_SOURCE": uses["balanced_source"],
-        "HAS_CORRECTION": uses["correction"],
-        "HAS_RESISTANCE": uses["resistance"],
-        "HAS_DYNAMIC_COEFFICIENTS": uses["dynamic_coefficients"],
-        "HAS_INTERFACE_COEFFICIENTS": uses["interface_coefficients"],
-        "HAS_REST_COEFFICIENTS": uses["rest_coefficients"],
-        "DEPTH": -1 if depth is None else int(depth),
-        "MOMENTUM": -1 if model.momentum_index is None else int(model.momentum_index),
-        "DRY_DEPTH": float(model.dry_depth()),
-        "SURFACE_BED": int(bed),
-        "SURFACE_SLOPE": int(bed_slope),
-    }
-
-
-def model_array_kernels(model: Model) -> ModuleType:
-    """Compiled loops over the cells of a model's pointwise functions (its array methods)."""
-    from conslaw.kernels import placeholders
-
-    model_class = type(model)
-    bindings = _model_bindings(model_class)
-    bindings["_balanced_source_point"] = (
-        model_class.balanced_source_point or placeholders.balanced_source_point
-    )
-    bindings["_correct_point"] = model_class.correct_point or placeholders.correct_point
-    bindings["_resistance_point"] = model_class.resistance_point or placeholders.resistance_point
-    bindings["_coefficients_point"] = (
-        model_class.coefficients_point or placeholders.coefficients_point
-    )
-    bindings["_interface_coefficients_point"] = (
-        model_class.interface_coefficients_point or placeholders.interface_coefficients_point
-    )
-    bindings["_rest_coefficients_point"] = (
-        model_class.rest_coefficients_point or placeholders.rest_coefficients_point
-    )
-    constants = _model_constants(model)
-    keys = (
-        "NV", "NAUX", "HAS_SOURCE", "HAS_BALANCED_SOURCE", "HAS_CORRECTION", "HAS_RESISTANCE",
-        "HAS_DYNAMIC_COEFFICIENTS", "HAS_INTERFACE_COEFFICIENTS", "HAS_REST_COEFFICIENTS",
-    )  # fmt: skip
-    return generate("arrays_template.py", bindings, {key: constants[key] for key in keys})
-
-
-def _scheme_bindings(
-    model: Model, slope_point: Callable[..., Any], fill_left: Any, fill_right: Any
-) -> dict[str, Callable[..., Any]]:
-    """Bindings of the NT template: the model's point functions, the reconstructor's slope and
-    the boundary conditions."""
-    from conslaw.kernels import placeholders
-
-    model_class = type(model)
-    bindings = _model_bindings(model_class)
-    bindings.update(
-        {
-            "_slope_point": slope_point,
-            "_fill_left": fill_left,
-            "_fill_right": fill_right,
-            "_balanced_source_point": model_class.balanced_source_point
-            or placeholders.balanced_source_point,
-            "_correct_point": model_class.correct_point or placeholders.correct_point,
-            "_resistance_point": model_class.resistance_point or placeholders.resistance_point,
-            "_coefficients_point": model_class.coefficients_point
-            or placeholders.coefficients_point,
-            "_interface_coefficients_point": model_class.interface_coefficients_point
-            or placeholders.interface_coefficients_point,
-            "_rest_coefficients_point": model_class.rest_coefficients_point
-            or placeholders.rest_coefficients_point,
-        }
-    )
-    return bindings
-
-
-def nt_kernels(
-    model: Model, slope_point: Callable[..., Any], fill_left: Any, fill_right: Any
-) -> ModuleType:
-    """The fused Nessyahu–Tadmor kernels for one model, reconstructor and boundary pair."""
-    bindings = _scheme_bindings(model, slope_point, fill_left, fill_right)
-    return generate("nt_template.py", bindings, _model_constants(model))
-
-
-def ft_kernels(
-    model: Model, slope_point: Callable[..., Any], fill_left: Any, fill_right: Any
-) -> ModuleType:
-    """The compiled front-tracking kernels: ``ft_template.py`` calling the NT kernels of the
-    same model, reconstructor and boundary pair (:func:`nt_kernels`)."""
-    nt = nt_kernels(model, slope_point, fill_left, fill_right)
-    return generate("ft_template.py", {}, imports={"conslaw.kernels.nt_template": nt})

@@ -2,7 +2,8 @@
 
 For every (scheme, reconstructor) and every N the scene is solved ``repeats`` times; the table
 holds the steps, the median (min, max) wall time of the solve (set-up, compilation and output
-excluded), the reference §6 errors of variable 0 against the exact cell averages, and the observed
+excluded), the errors (docs/equations.md, "Error norms") of variable 0 against the exact cell
+averages, and the observed
 L1 order between successive N. The first solve of every combination (JIT compilation or loading
 the compiled kernels from the cache) is timed on its own and reported apart, as is the time to
 import conslaw in a fresh process.

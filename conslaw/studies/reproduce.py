@@ -22,8 +22,8 @@ import numpy as np
 
 from conslaw.analysis import observed_orders
 from conslaw.config import load_scene
-from conslaw.convergence import margin_error
 from conslaw.simulation import RunResult, simulate
+from conslaw.studies.convergence import margin_error
 
 FigureBuilder = Callable[[RunResult], Any]
 
@@ -240,8 +240,8 @@ def _table_markdown(rows: list[dict[str, Any]]) -> str:
 def _lagrangian_section(folder: Path, overrides: dict[str, Any] | None) -> tuple[str, list[Path]]:
     """The paper's Fig. 3 comparison with the Lagrangian moving grid of Savage & Hutter (1989):
     ``sh-runout-shock`` with NT and the Lagrangian scheme without and with artificial viscosity
-    (:func:`conslaw.comparison.runout_comparison`), as a report section."""
-    from conslaw.comparison import RUNOUT_SCHEMES, compare, write_comparison
+    (:func:`conslaw.studies.comparison.runout_comparison`), as a report section."""
+    from conslaw.studies.comparison import RUNOUT_SCHEMES, compare, write_comparison
 
     comparison = compare("sh-runout-shock", RUNOUT_SCHEMES, overrides)
     files = write_comparison(comparison, folder)
@@ -323,8 +323,10 @@ def reproduce_paper(
         )
         table = (
             "## Error table: the similarity solution at t = 6\n\n"
-            "Errors of h against the exact cell averages (reference §6 norms), largest distance "
-            "of a tracked margin from the exact one.\n\n" + _table_markdown(rows) + "\n"
+            "Errors of h against the exact cell averages (the norms of docs/equations.md), "
+            "largest distance of a tracked margin from the exact one.\n\n"
+            + _table_markdown(rows)
+            + "\n"
         )
         log(f"error table: {time.perf_counter() - began:.1f} s")
     total = time.perf_counter() - started

@@ -1,0 +1,78 @@
+"""What a run produced (:class:`RunResult`): handed by the runner to the output layer, the figures
+and the studies, none of which calls back into the scheme."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import NDArray
+
+if TYPE_CHECKING:
+    from conslaw.analysis import ErrorNorms
+    from conslaw.config import Scene
+    from conslaw.exact import ExactSolution
+    from conslaw.grid import Grid
+    from conslaw.model import Model
+    from conslaw.schemes.base import Scheme
+    from conslaw.state import State
+
+Array = NDArray[np.float64]
+
+
+@dataclass
+class RunResult:
+    """Everything a run produced.
+
+    Attributes
+    ----------
+    states : list of State
+        The solution at every output time (primary grid).
+    exact : list of ndarray or None
+        Exact cell averages at the same times (None without an exact solution).
+    errors : list of ErrorNorms or None
+        Error norms (docs/equations.md, "Error norms") of variable 0 against the exact cell
+        averages.
+    steps : int
+        Time steps taken.
+    solve_seconds : float
+        Wall time of the time loop (set-up, compilation and output excluded).
+    mass_drift : ndarray
+        Relative change of the total of every conserved variable from t=0 to the end.
+    margins : ndarray or None
+        With front tracking: rows ``t, x_rear, u_rear, x_front, u_front`` after every step.
+    coefficients : list of ndarray
+        The model's coefficients in every cell at every output time, as the scheme used them
+        in that state (``(n_aux, n)``, :meth:`conslaw.schemes.base.Scheme.cell_coefficients`):
+        recorded by the runner, so that the output layer never calls back into the scheme.
+    """
+
+    scene: Scene
+    model: Model
+    grid: Grid
+    scheme: Scheme
+    initial: State
+    states: list[State]
+    exact_solution: ExactSolution | None
+    exact: list[Array | None]
+    errors: list[ErrorNorms | None]
+    steps: int
+    solve_seconds: float
+    mass_drift: Array
+    compile_seconds: float = 0.0
+    exact_note: str | None = None
+    margins: Array | None = None
+    files: list[Path] = field(default_factory=list)
+    coefficients: list[Array] = field(default_factory=list)
+
+    @property
+    def final(self) -> State:
+        """The state at ``t_end``."""
+        return self.states[-1]
+
+    def headline_error(self) -> float | None:
+        """L1 error of variable 0 at ``t_end`` against the exact cell averages (None if unknown)."""
+        error = self.errors[-1]
+        return None if error is None else error.l1
