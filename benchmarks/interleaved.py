@@ -19,7 +19,9 @@ Usage::
         [--sizes 10000,100000,1000000] [--json out.json]
     python benchmarks/interleaved.py --baseline-tree /path/to/old/checkout ...
 
-Both sides need their own kernel cache (``CONSLAW_CACHE_DIR`` is set per side to
+Every child runs in its side's cache folder (``python -m`` puts the working folder first on the
+import path, so a child started in a checkout would import that checkout's conslaw). Both sides
+need their own kernel cache (``CONSLAW_CACHE_DIR`` is set per side to
 ``<cache>/baseline`` and ``<cache>/current``, default under the system's temporary folder).
 """
 
@@ -84,7 +86,7 @@ def run_child(python: str, cache: Path, sizes: list[int]) -> list[dict[str, Any]
     environment = side_environment(cache)
     output = subprocess.run(
         [python, __file__, "--child", "--sizes", ",".join(map(str, sizes))],
-        capture_output=True, text=True, check=True, env=environment,
+        capture_output=True, text=True, check=True, env=environment, cwd=cache,
     ).stdout  # fmt: skip
     rows: list[dict[str, Any]] = json.loads(output.strip().splitlines()[-1])
     return rows
@@ -96,7 +98,7 @@ def whole_process(python: str, cache: Path, folder: Path) -> float:
     started = time.perf_counter()
     subprocess.run(
         [python, "-m", "conslaw.cli", "run", "sh-similarity", "--out", str(folder)],
-        capture_output=True, check=True, env=environment,
+        capture_output=True, check=True, env=environment, cwd=cache,
     )  # fmt: skip
     return time.perf_counter() - started
 
@@ -133,6 +135,8 @@ def main() -> None:
             link.symlink_to(Path(args.baseline_tree).resolve() / folder)
         SIDE_ENVIRONMENT["baseline"] = {"PYTHONPATH": str(shim)}
     caches = {side: root / side for side in sides}
+    for cache in caches.values():
+        cache.mkdir(parents=True, exist_ok=True)
     for side, python in sides.items():  # compile every kernel once, outside the timing
         run_child(python, caches[side], sizes)
         with tempfile.TemporaryDirectory() as folder:
