@@ -284,11 +284,9 @@ def _resolve_files(parameters: Mapping[str, Any], folder: Path | None) -> dict[s
     return resolved
 
 
-def validate(name: str, raw: Mapping[str, Any], folder: Path | None = None) -> Scene:
-    """Validate a raw scene mapping (after overrides) into a :class:`Scene`.
-
-    ``folder`` is where the scene file lives (relative ``*_file`` parameters are resolved there).
-    """
+def _filled(raw: Mapping[str, Any]) -> dict[str, Any]:
+    """The scene's keys with the defaults filled in; unknown and missing required keys are
+    errors."""
     for key in raw:
         if key not in DEFAULTS:
             raise ConfigError(unknown_name_message("scene key", key, DEFAULTS))
@@ -297,18 +295,11 @@ def validate(name: str, raw: Mapping[str, Any], folder: Path | None = None) -> S
     for key, value in table.items():
         if value is REQUIRED:
             raise ConfigError(f"scene key '{key}' is required ({KEY_HELP[key]})")
+    return table
 
-    model = _name(table, "model", registry.models)
-    scheme = _name(table, "scheme", registry.schemes)
-    scheme_options = _scheme_options(table["scheme_options"], scheme)
-    reconstructor = _name(table, "reconstructor", registry.reconstructors)
-    if not isinstance(table["description"], str):
-        raise ConfigError("scene key 'description': expected a string")
-    parameters = table["parameters"]
-    if not isinstance(parameters, Mapping):
-        raise ConfigError(f"scene key 'parameters': expected a table, got {parameters!r}")
-    parameters = _resolve_files(parameters, folder)
 
+def _domain(table: Mapping[str, Any]) -> tuple[float, int, float, float, float, list[float]]:
+    """``cfl, n_cells, x_min, x_max, t_end`` and the sorted output times (t_end included)."""
     cfl = _number(table, "cfl")
     if not 0.0 < cfl < 0.5:
         raise ConfigError(f"scene key 'cfl': must be in (0, 0.5) (paper eq. 17), got {cfl}")
@@ -334,21 +325,28 @@ def validate(name: str, raw: Mapping[str, Any], folder: Path | None = None) -> S
     times = sorted({_number({"output_times": t}, "output_times") for t in times_raw} | {t_end})
     if times[0] < 0.0 or times[-1] > t_end:
         raise ConfigError(f"scene key 'output_times': every time must be in [0, t_end={t_end}]")
+    return cfl, n_cells, x_min, x_max, t_end, times
+
+
+def _scheme_with_front_tracking(table: Mapping[str, Any], scheme: str) -> tuple[str, bool]:
+    """The scheme, with the ``front_tracking`` flag of earlier scene files (with
+    nessyahu-tadmor it means the front-tracking scheme), and whether it tracks fronts."""
     front_tracking = table["front_tracking"]
     if not isinstance(front_tracking, bool):
         raise ConfigError(
             f"scene key 'front_tracking': expected true or false, got {front_tracking!r}"
         )
     if front_tracking and scheme == "nessyahu-tadmor":
-        scheme = "front-tracking"  # how earlier scene files chose front tracking
+        scheme = "front-tracking"
     elif front_tracking and scheme != "front-tracking":
         raise ConfigError(
             f"scene key 'front_tracking': front tracking is the scheme 'front-tracking' (write "
             f"scheme = \"front-tracking\"), it cannot be combined with '{scheme}'"
         )
-    front_tracking = scheme == "front-tracking"
-    if not isinstance(table["exact"], bool):
-        raise ConfigError(f"scene key 'exact': expected true or false, got {table['exact']!r}")
+    return scheme, scheme == "front-tracking"
+
+
+def _max_steps(table: Mapping[str, Any]) -> int:
     max_steps = table["max_steps"]
     if (
         isinstance(max_steps, bool)
@@ -358,7 +356,10 @@ def validate(name: str, raw: Mapping[str, Any], folder: Path | None = None) -> S
         raise ConfigError(
             f"scene key 'max_steps': expected an integer >= 1 and <= {MAX_STEPS}, got {max_steps!r}"
         )
+    return max_steps
 
+
+def _boundaries(table: Mapping[str, Any]) -> tuple[BoundarySide, BoundarySide]:
     boundary = _check_table(table["boundary"], "boundary", ("left", "right"))
     left = _boundary_side(boundary.get("left", "outflow"), "left")
     right = _boundary_side(boundary.get("right", "outflow"), "right")
@@ -367,13 +368,11 @@ def validate(name: str, raw: Mapping[str, Any], folder: Path | None = None) -> S
             f"boundary: 'periodic' must be used on both sides, got left='{left.kind}', "
             f"right='{right.kind}'"
         )
-    model_object = registry.models.get(model)(**parameters)  # validates its own parameters
-    if front_tracking and (model_object.depth_index is None or model_object.n_vars != 2):
-        raise ConfigError(
-            f"scene key 'front_tracking': needs a model with a depth variable, q = (h, hu); "
-            f"'{model}' has none"
-        )
-    initial = InitialCondition.from_table(table["initial"], registry.models.get(model))
+    return left, right
+
+
+def _output(table: Mapping[str, Any]) -> tuple[list[str], bool]:
+    """The ``[output]`` table: the formats (in order, once each) and whether to plot."""
     output = _check_table(table["output"], "output", OUTPUT_KEYS)
     formats = output.get("formats", ["npz"])
     if not isinstance(formats, list) or any(
@@ -382,33 +381,49 @@ def validate(name: str, raw: Mapping[str, Any], folder: Path | None = None) -> S
         raise ConfigError(
             f"output.formats: expected a list of {', '.join(OUTPUT_FORMATS)}, got {formats!r}"
         )
-    formats = list(dict.fromkeys(formats))
     plot = output.get("plot", True)
     if not isinstance(plot, bool):
         raise ConfigError(f"output.plot: expected true or false, got {plot!r}")
+    return list(dict.fromkeys(formats)), plot
+
+
+def validate(name: str, raw: Mapping[str, Any], folder: Path | None = None) -> Scene:
+    """Validate a raw scene mapping (after overrides) into a :class:`Scene`.
+
+    ``folder`` is where the scene file lives (relative ``*_file`` parameters are resolved there).
+    """
+    table = _filled(raw)
+    model = _name(table, "model", registry.models)
+    scheme = _name(table, "scheme", registry.schemes)
+    scheme_options = _scheme_options(table["scheme_options"], scheme)
+    reconstructor = _name(table, "reconstructor", registry.reconstructors)
+    if not isinstance(table["description"], str):
+        raise ConfigError("scene key 'description': expected a string")
+    parameters = table["parameters"]
+    if not isinstance(parameters, Mapping):
+        raise ConfigError(f"scene key 'parameters': expected a table, got {parameters!r}")
+    parameters = _resolve_files(parameters, folder)
+    cfl, n_cells, x_min, x_max, t_end, times = _domain(table)
+    scheme, front_tracking = _scheme_with_front_tracking(table, scheme)
+    if not isinstance(table["exact"], bool):
+        raise ConfigError(f"scene key 'exact': expected true or false, got {table['exact']!r}")
+    max_steps = _max_steps(table)
+    left, right = _boundaries(table)
+    model_object = registry.models.get(model)(**parameters)  # validates its own parameters
+    if front_tracking and (model_object.depth_index is None or model_object.n_vars != 2):
+        raise ConfigError(
+            f"scene key 'front_tracking': needs a model with a depth variable, q = (h, hu); "
+            f"'{model}' has none"
+        )
+    initial = InitialCondition.from_table(table["initial"], registry.models.get(model))
+    formats, plot = _output(table)
     return Scene(
-        name=name,
-        description=table["description"],
-        model=model,
-        parameters=dict(parameters),
-        scheme=scheme,
-        reconstructor=reconstructor,
-        cfl=cfl,
-        n_cells=n_cells,
-        x_min=x_min,
-        x_max=x_max,
-        t_end=t_end,
-        output_times=tuple(times),
-        exact=table["exact"],
-        left=left,
-        right=right,
-        initial=initial,
-        output_formats=tuple(formats),
-        plot=plot,
-        front_tracking=front_tracking,
-        scheme_options=scheme_options,
-        max_steps=max_steps,
-    )
+        name=name, description=table["description"], model=model, parameters=dict(parameters),
+        scheme=scheme, reconstructor=reconstructor, cfl=cfl, n_cells=n_cells, x_min=x_min,
+        x_max=x_max, t_end=t_end, output_times=tuple(times), exact=table["exact"], left=left,
+        right=right, initial=initial, output_formats=tuple(formats), plot=plot,
+        front_tracking=front_tracking, scheme_options=scheme_options, max_steps=max_steps,
+    )  # fmt: skip
 
 
 def load_scene(name_or_path: str | Path, overrides: Mapping[str, Any] | None = None) -> Scene:
