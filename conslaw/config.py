@@ -149,7 +149,6 @@ class Scene:
             **({"scheme_options": dict(self.scheme_options)} if self.scheme_options else {}),
             "reconstructor": self.reconstructor,
             "cfl": self.cfl,
-            "front_tracking": self.front_tracking,
             "n_cells": self.n_cells,
             "x_min": self.x_min,
             "x_max": self.x_max,
@@ -328,13 +327,20 @@ def _domain(table: Mapping[str, Any]) -> tuple[float, int, float, float, float, 
     return cfl, n_cells, x_min, x_max, t_end, times
 
 
-def _scheme_with_front_tracking(table: Mapping[str, Any], scheme: str) -> tuple[str, bool]:
+def _scheme_with_front_tracking(
+    raw: Mapping[str, Any], table: Mapping[str, Any], scheme: str
+) -> tuple[str, bool]:
     """The scheme, with the ``front_tracking`` flag of earlier scene files (with
     nessyahu-tadmor it means the front-tracking scheme), and whether it tracks fronts."""
     front_tracking = table["front_tracking"]
     if not isinstance(front_tracking, bool):
         raise ConfigError(
             f"scene key 'front_tracking': expected true or false, got {front_tracking!r}"
+        )
+    if raw.get("front_tracking") is False and scheme == "front-tracking":
+        raise ConfigError(
+            "scene key 'front_tracking': false contradicts scheme = \"front-tracking\" (choose "
+            'the scheme alone, e.g. scheme = "nessyahu-tadmor")'
         )
     if front_tracking and scheme == "nessyahu-tadmor":
         scheme = "front-tracking"
@@ -404,7 +410,7 @@ def validate(name: str, raw: Mapping[str, Any], folder: Path | None = None) -> S
         raise ConfigError(f"scene key 'parameters': expected a table, got {parameters!r}")
     parameters = _resolve_files(parameters, folder)
     cfl, n_cells, x_min, x_max, t_end, times = _domain(table)
-    scheme, front_tracking = _scheme_with_front_tracking(table, scheme)
+    scheme, front_tracking = _scheme_with_front_tracking(raw, table, scheme)
     if not isinstance(table["exact"], bool):
         raise ConfigError(f"scene key 'exact': expected true or false, got {table['exact']!r}")
     max_steps = _max_steps(table)

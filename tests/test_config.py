@@ -104,4 +104,8 @@ def test_front_tracking_is_a_scheme_and_the_old_flag_still_chooses_it() -> None:
     with pytest.raises(ConfigError, match='scheme = "front-tracking"'):
         load_scene("sh-similarity", {"front_tracking": True, "scheme": "lagrangian"})
     written = by_flag.to_table()
-    assert written["scheme"] == "front-tracking" and written["front_tracking"] is True
+    assert written["scheme"] == "front-tracking" and "front_tracking" not in written
+    # The resolved scene names the scheme alone, so choosing another scheme is one override.
+    assert load_scene("sh-similarity-ft", {"scheme": "nessyahu-tadmor"}).front_tracking is False
+    with pytest.raises(ConfigError, match="false contradicts"):
+        load_scene("sh-similarity-ft", {"front_tracking": False})

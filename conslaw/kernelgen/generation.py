@@ -15,6 +15,7 @@ Cache folder: ``$CONSLAW_CACHE_DIR``, else ``$XDG_CACHE_HOME/conslaw/kernels``, 
 from __future__ import annotations
 
 import ast
+import contextlib
 import hashlib
 import importlib
 import importlib.util
@@ -22,10 +23,12 @@ import os
 import sys
 import tempfile
 import threading
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from pathlib import Path
 from types import CodeType, ModuleType
 from typing import Any
+
+import numba
 
 _BEGIN = "# --- bindings ---"
 _END = "# --- end bindings ---"
@@ -176,11 +179,12 @@ def _prune(folder: Path, family: str, keep: str) -> None:
     """Remove the generated modules of ``family`` other than ``keep``, with numba's cache files
     of them: the same template and bindings generated from an earlier version of the code."""
     for path in folder.glob(f"{family}_*.py"):
-        if path.stem == keep:
-            continue
-        for cached in (folder / "__pycache__").glob(f"{path.stem}.*"):
+        if path.stem != keep:
+            path.unlink(missing_ok=True)
+    # numba's cache files of the family's other modules (also of modules already gone)
+    for cached in (folder / "__pycache__").glob(f"{family}_*"):
+        if not cached.name.startswith(f"{keep}."):
             cached.unlink(missing_ok=True)
-        path.unlink(missing_ok=True)
 
 
 def generate(
@@ -236,7 +240,10 @@ def generate(
     # An imported generated module enters by its own identity, so the same template with other
     # imported kernels is another family (and is not pruned as a stale copy of this one).
     imported = [f"{name}={module.__kernel_family__}" for name, module in sorted(imports.items())]
-    identity = hashlib.sha256("\0".join([str(path), *statements, *imported]).encode())
+    # Without the JIT (NUMBA_DISABLE_JIT) nothing is compiled and the dependencies are unknown: a
+    # family of its own, so that it never prunes the compiled modules.
+    jit = "nojit" if getattr(numba.config, "DISABLE_JIT", False) else "jit"
+    identity = hashlib.sha256("\0".join([str(path), jit, *statements, *imported]).encode())
     digest = hashlib.sha256("\0".join([body, *dependency_sources(roots)]).encode())
     family = f"conslaw_kernel_{path.parent.name}_{path.stem}_{identity.hexdigest()[:12]}"
     module_name = f"{family}_{digest.hexdigest()[:16]}"
@@ -244,22 +251,45 @@ def generate(
         if module_name in _loaded:
             return _loaded[module_name]
         folder = cache_dir()
-        target = folder / f"{module_name}.py"
-        if not target.exists() or target.read_text() != body:
-            temporary = target.with_suffix(f".{os.getpid()}.{threading.get_ident()}.tmp")
-            temporary.write_text(body)
-            os.replace(temporary, target)
-            _prune(folder, family, keep=module_name)
-        spec = importlib.util.spec_from_file_location(module_name, target)
-        assert spec is not None and spec.loader is not None
-        module = importlib.util.module_from_spec(spec)
-        # numba's cache re-imports the module by name when it loads a cached function.
-        sys.modules[module_name] = module
+        with _folder_lock(folder):
+            return _write_and_import(folder, family, module_name, body)
+
+
+@contextlib.contextmanager
+def _folder_lock(folder: Path) -> Iterator[None]:
+    """Other processes using the cache folder wait while this one writes, imports and prunes
+    (an advisory lock on ``folder/.lock``; without ``fcntl``, no lock between processes)."""
+    try:
+        import fcntl
+    except ImportError:  # not on POSIX
+        yield
+        return
+    with open(folder / ".lock", "a") as handle:
+        fcntl.flock(handle, fcntl.LOCK_EX)
         try:
-            spec.loader.exec_module(module)
-        except BaseException:
-            del sys.modules[module_name]
-            raise
-        setattr(module, "__kernel_family__", family)  # noqa: B010 (an attribute of our own)
-        _loaded[module_name] = module
-        return module
+            yield
+        finally:
+            fcntl.flock(handle, fcntl.LOCK_UN)
+
+
+def _write_and_import(folder: Path, family: str, module_name: str, body: str) -> ModuleType:
+    """Write the module (if not there), prune the stale modules of its family and import it."""
+    target = folder / f"{module_name}.py"
+    if not target.exists() or target.read_text() != body:
+        temporary = target.with_suffix(f".{os.getpid()}.{threading.get_ident()}.tmp")
+        temporary.write_text(body)
+        os.replace(temporary, target)
+        _prune(folder, family, keep=module_name)
+    spec = importlib.util.spec_from_file_location(module_name, target)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    # numba's cache re-imports the module by name when it loads a cached function.
+    sys.modules[module_name] = module
+    try:
+        spec.loader.exec_module(module)
+    except BaseException:
+        del sys.modules[module_name]
+        raise
+    setattr(module, "__kernel_family__", family)  # noqa: B010 (an attribute of our own)
+    _loaded[module_name] = module
+    return module
