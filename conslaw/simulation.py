@@ -39,7 +39,12 @@ def _build(
     grid = Grid(scene.x_min, scene.x_max, scene.n_cells)
     left = BoundarySpec(registry.boundaries.get(scene.left.kind), scene.left.options)
     right = BoundarySpec(registry.boundaries.get(scene.right.kind), scene.right.options)
-    scheme_class = registry.schemes.get(scene.scheme)
+    scheme_name = scene.scheme
+    if scene.front_tracking and scheme_name == "nessyahu-tadmor":
+        scheme_name = "front-tracking"  # a Scene built with the flag (dataclasses.replace)
+    if scheme_name == "front-tracking" and not scene.front_tracking:
+        raise ConfigError("scene: front_tracking = false contradicts scheme 'front-tracking'")
+    scheme_class = registry.schemes.get(scheme_name)
     scheme = scheme_class(
         model,
         registry.reconstructors.get(scene.reconstructor),

@@ -109,3 +109,18 @@ def test_front_tracking_is_a_scheme_and_the_old_flag_still_chooses_it() -> None:
     assert load_scene("sh-similarity-ft", {"scheme": "nessyahu-tadmor"}).front_tracking is False
     with pytest.raises(ConfigError, match="false contradicts"):
         load_scene("sh-similarity-ft", {"front_tracking": False})
+
+
+def test_a_scene_replaced_with_the_flag_runs_front_tracking() -> None:
+    """A Scene object given ``front_tracking=True`` by ``dataclasses.replace`` (the flag of
+    earlier versions) runs the front-tracking scheme: its states carry margins."""
+    import dataclasses
+
+    from conslaw.simulation import build
+
+    scene = load_scene("sh-similarity-ft", {"scheme": "nessyahu-tadmor", "exact": False})
+    assert not scene.front_tracking
+    _, _, scheme, initial, _ = build(dataclasses.replace(scene, front_tracking=True))
+    assert scheme.name == "front-tracking" and initial.margins is not None
+    with pytest.raises(ConfigError, match="contradicts"):
+        build(dataclasses.replace(load_scene("sh-similarity-ft"), front_tracking=False))
