@@ -76,6 +76,11 @@ def _command_show(args: argparse.Namespace) -> int:
     return 0
 
 
+def _notice(message: str) -> None:
+    """A line on stdout before a wait (stderr is kept for the one-line errors)."""
+    print(f"conslaw: {message}", flush=True)
+
+
 class _ProgressBar:
     """A one-line progress bar on stdout, only when stdout is a terminal."""
 
@@ -174,7 +179,7 @@ def _run_scene(scene: Scene, out: Path, writer: RunWriter) -> int:
     signals = [s for s in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, s)]
     previous = {name: signal.signal(getattr(signal, name), latch) for name in signals}
     try:
-        result = simulate(scene, progress=progress, on_output=on_output)
+        result = simulate(scene, progress=progress, on_output=on_output, notice=_notice)
     except RunInterrupted as interrupted:
         bar.close()
         if writer.last_time != interrupted.last_output:  # the signal came as it finished one

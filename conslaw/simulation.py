@@ -97,6 +97,7 @@ def simulate(
     scene: Scene,
     progress: ProgressCallback | None = None,
     on_output: OutputCallback | None = None,
+    notice: Callable[[str], None] | None = None,
 ) -> RunResult:
     """Run a validated scene to every output time.
 
@@ -104,6 +105,7 @@ def simulate(
     (:class:`conslaw.io.RunWriter` writes the files there, so a run that fails or is interrupted
     keeps every earlier output). A Ctrl-C (or a signal turned into a ``KeyboardInterrupt``)
     becomes :class:`~conslaw.errors.RunInterrupted` saying where the run stopped.
+    ``notice(message)`` is told of a wait before it starts (a first run compiling its kernels).
     """
     model, grid, scheme, initial, exact_solution, exact_note = _build(scene)
     scheme.check_admissible(initial, step=0)
@@ -125,8 +127,13 @@ def simulate(
 
     try:
         # Compile the kernels (or load them from the cache) before the clock starts.
+        if notice is not None and scheme.needs_compile():
+            notice(
+                f"compiling the {scene.scheme} kernels for {scene.model} "
+                "(first run only, about half a minute; cached for later runs)"
+            )
         started = time.perf_counter()
-        scheme.advance(initial, initial.t)
+        scheme.compile(initial)
         result.compile_seconds = time.perf_counter() - started
         state = initial
         margin_rows: list[Array] = []

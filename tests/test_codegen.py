@@ -19,7 +19,7 @@ from conslaw import registry
 from conslaw.grid import Grid
 from conslaw.kernelgen import generation as codegen
 from conslaw.kernelgen.generation import dependency_sources, generate
-from conslaw.reconstruct import limiters
+from conslaw.reconstruct import Reconstructor, limiters
 from conslaw.schemes.front_tracking.kernels import ft_kernels
 from conslaw.schemes.nessyahu_tadmor import kernels as nt
 
@@ -112,17 +112,26 @@ def test_a_constant_the_bound_code_reads_is_part_of_the_key(package: tuple[str, 
     np.testing.assert_array_equal(second.apply(np.array([1.0])), [15.0])
 
 
+#: A reconstructor as a plugin would register it: no built-in code, its slope compiled in.
+PLUGIN_SLOPE = Reconstructor("plugin-minmod", "minmod as a plugin", limiters.slope_minmod, 2)
+
+
 def test_savage_hutter_kernel_depends_on_its_own_files_only() -> None:
     """The NT kernel of Savage–Hutter covers the model's file and the compiled code it reaches,
     not the CLI, another model or the folder around them."""
     model = registry.models.get("savage-hutter")(phi=35.0, delta=30.0)
     wall = registry.boundaries.get("wall")
-    bound = nt.scheme_bindings(model, limiters.slope_mc, wall.fill_left, wall.fill_right)
+    builtin = registry.reconstructors.get("mc")
+    bound = nt.scheme_bindings(model, builtin, wall.fill_left, wall.fill_right)
     files = {text.split("\0", 1)[0] for text in dependency_sources(bound) if "\0" in text}
     names = {Path(file).name for file in files}
     assert "savage_hutter.py" in names
-    assert "limiters.py" in names
+    # The built-in reconstructors are the template's own import, not a binding.
+    assert "limiters.py" not in names
     assert not names & {"cli.py", "burgers.py", "shallow_water.py", "io.py", "config.py"}
+    bound = nt.scheme_bindings(model, PLUGIN_SLOPE, wall.fill_left, wall.fill_right)
+    files = {text.split("\0", 1)[0] for text in dependency_sources(bound) if "\0" in text}
+    assert "limiters.py" in {Path(file).name for file in files}
 
 
 def test_generated_lines_are_the_template_lines() -> None:
@@ -131,8 +140,9 @@ def test_generated_lines_are_the_template_lines() -> None:
     model = registry.models.get("savage-hutter")(phi=35.0, delta=30.0)
     wall = registry.boundaries.get("wall")
     left, right = wall.fill_left, wall.fill_right
-    nt_module = nt.nt_kernels(model, limiters.slope_mc, left, right)
-    ft_module = ft_kernels(model, limiters.slope_mc, left, right)
+    mc = registry.reconstructors.get("mc")
+    nt_module = nt.nt_kernels(model, mc, left, right)
+    ft_module = ft_kernels(model, mc, left, right)
     arrays = model._compiled_arrays()
     conslaw_folder = Path(conslaw.__file__).parent
     cases = (
@@ -162,12 +172,11 @@ def test_a_traceback_in_a_kernel_names_the_template_line(tmp_path: Path) -> None
         """
         import numpy as np
         from conslaw import registry
-        from conslaw.reconstruct import limiters
         from conslaw.schemes.nessyahu_tadmor.kernels import nt_kernels
         model = registry.models.get("burgers")()
         outflow = registry.boundaries.get("outflow")
         left, right = outflow.fill_left, outflow.fill_right
-        kernels = nt_kernels(model, limiters.slope_mc, left, right)
+        kernels = nt_kernels(model, registry.reconstructors.get("mc"), left, right)
         kernels.copy_cells(np.zeros((1, 4)), np.zeros((1, 4)), 10)
         """
     )
@@ -194,12 +203,13 @@ def test_threads_generate_one_module(monkeypatch: pytest.MonkeyPatch, tmp_path: 
     model = registry.models.get("burgers")()
     periodic = registry.boundaries.get("periodic")
     left, right = periodic.fill_left, periodic.fill_right
+    minmod = registry.reconstructors.get("minmod")
     modules: list[object] = []
     errors: list[BaseException] = []
 
     def build() -> None:
         try:
-            modules.append(nt.nt_kernels(model, limiters.slope_minmod, left, right))
+            modules.append(nt.nt_kernels(model, minmod, left, right))
         except BaseException as error:
             errors.append(error)
 
@@ -218,14 +228,19 @@ def test_threads_generate_one_module(monkeypatch: pytest.MonkeyPatch, tmp_path: 
 def test_kernels_of_other_bindings_are_not_pruned(
     monkeypatch: pytest.MonkeyPatch, tmp_path: Path
 ) -> None:
-    """Front-tracking kernels of two reconstructors (the same template, other imported NT
-    kernels) are two families: writing one leaves the other in place."""
+    """Front-tracking kernels of a built-in and a plugin reconstructor (the same template, other
+    imported NT kernels) are two families: writing one leaves the other in place. Every
+    built-in reconstructor shares one kernel module (the choice is made at run time)."""
     monkeypatch.setenv("CONSLAW_CACHE_DIR", str(tmp_path))
     monkeypatch.setattr(codegen, "_loaded", {})
     model = registry.models.get("shallow-water")()
     wall = registry.boundaries.get("wall")
-    first = ft_kernels(model, limiters.slope_mc, wall.fill_left, wall.fill_right)
-    second = ft_kernels(model, limiters.slope_minmod, wall.fill_left, wall.fill_right)
+    first = ft_kernels(model, registry.reconstructors.get("mc"), wall.fill_left, wall.fill_right)
+    second = ft_kernels(model, PLUGIN_SLOPE, wall.fill_left, wall.fill_right)
     assert first.__name__ != second.__name__
     assert Path(first.__file__).exists() and Path(second.__file__).exists()
     assert len(list(tmp_path.glob("conslaw_kernel_front_tracking_*.py"))) == 2
+    for name in ("none", "minmod", "superbee", "vanleer", "weno3", "weno5"):
+        builtin = registry.reconstructors.get(name)
+        again = ft_kernels(model, builtin, wall.fill_left, wall.fill_right)
+        assert again is first, name

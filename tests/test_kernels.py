@@ -8,6 +8,8 @@ per-cell earth-pressure coefficient are included.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 from conftest import make_scheme
@@ -45,6 +47,21 @@ def scheme_for(case: str, n_cells: int) -> NessyahuTadmor:
     return NessyahuTadmor(
         model, registry.reconstructors.get(reconstructor), Grid(-5.0, 5.0, n_cells), side, side
     )
+
+
+def test_a_plugin_reconstructor_steps_as_the_built_in_one(rng: np.random.Generator) -> None:
+    """A reconstructor without a built-in code (as a plugin registers one) is compiled into the
+    kernel; its steps equal, to the last bit, those of the built-in reconstructor with the same
+    slope function, which the kernel picks at run time."""
+    built_in = scheme_for("burgers, weno5, periodic", 300)
+    plugin = replace(built_in.reconstructor, name="plugin-weno5", code=None)
+    side = BoundarySpec(registry.boundaries.get("periodic"))
+    compiled_in = NessyahuTadmor(built_in.model, plugin, built_in.grid, side, side)
+    assert compiled_in.kernels.__name__ != built_in.kernels.__name__
+    state = rough_state(built_in, rng)
+    dt = 0.9 * built_in.stable_dt(state)
+    assert np.array_equal(compiled_in.step(state, dt).q, built_in.step(state, dt).q)
+    assert not np.array_equal(compiled_in.step(state, dt).q, state.q)
 
 
 def rough_state(scheme: NessyahuTadmor, rng: np.random.Generator) -> State:

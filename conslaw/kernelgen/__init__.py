@@ -5,6 +5,12 @@ are module-level compiled functions, constants are compile-time values (docs/des
 "Compiled kernels"). :mod:`conslaw.kernelgen.stack` gives kernels small arrays on the stack.
 """
 
-from conslaw.kernelgen.generation import cache_dir, dependency_sources, generate, import_path
+from conslaw.kernelgen.generation import (
+    cache_dir,
+    compiled_before,
+    dependency_sources,
+    generate,
+    import_path,
+)
 
-__all__ = ["cache_dir", "dependency_sources", "generate", "import_path"]
+__all__ = ["cache_dir", "compiled_before", "dependency_sources", "generate", "import_path"]

@@ -57,6 +57,15 @@ def cache_dir() -> Path:
     raise OSError("no writable folder for conslaw's compiled kernels; set CONSLAW_CACHE_DIR")
 
 
+def compiled_before(module: ModuleType, function: str) -> bool:
+    """Whether numba's cache beside a generated ``module`` holds ``function`` compiled (for some
+    argument types): False means its first call compiles. Always True without the JIT."""
+    if numba.config.DISABLE_JIT:
+        return True
+    folder = Path(module.__file__ or "").parent / "__pycache__"
+    return any(folder.glob(f"{module.__name__}.{function}-*.nbi"))
+
+
 def import_path(function: Callable[..., Any]) -> tuple[str, str]:
     """``(module, name)`` under which a compiled function can be imported.
 

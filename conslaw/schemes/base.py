@@ -142,6 +142,17 @@ class Scheme(ABC):
     def step(self, state: State, dt: float) -> State:
         """One time step of length ``dt``."""
 
+    def needs_compile(self) -> bool:
+        """Whether :meth:`compile` will compile code (not load it from a cache): a run announces
+        the wait. The default (a scheme without compiled code) is False."""
+        return False
+
+    def compile(self, state: State) -> None:
+        """Compile (or load from the cache) everything :meth:`advance` runs, for states like
+        ``state``, without changing it, so that no compile falls inside a timed solve. The
+        default advances ``state`` to its own time (no step)."""
+        self.advance(state, state.t)
+
     def advance(
         self, state: State, t_end: float, progress: ProgressCallback | None = None
     ) -> AdvanceResult:

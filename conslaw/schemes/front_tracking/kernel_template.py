@@ -42,6 +42,7 @@ from conslaw.schemes.nessyahu_tadmor.kernel_template import (
     NG,
     NPARAMS,
     NV,
+    SLOPE_CODE,
     _admissible_point,
     _coefficients_point,
     _correct_point,
@@ -65,7 +66,7 @@ from conslaw.schemes.nessyahu_tadmor.kernel_template import (
     predict_point,
     resist,
     source_step_limit,
-    stencil_slope,
+    stencil_slopes,
 )
 
 #: ``Model.aux`` at one position (a callable ``x -> float64 array of NAUX``), set by the scheme.
@@ -89,7 +90,8 @@ FT_FLUX = NV
 FT_QUARTER_LEFT = 2 * NV
 FT_QUARTER_RIGHT = 3 * NV
 FT_VELOCITY = 4 * NV
-FT_WORK_ROWS = 4 * NV + 1
+FT_STENCIL = 4 * NV + 1
+FT_WORK_ROWS = 4 * NV + 2
 # Profile row of a margin: fitted slope S and curvature C of h = S d - C d^2, mean velocity of
 # the inner neighbour, velocity gradient, position and velocity at the start and at mid-step,
 # the triangle's slope in the margin cell, the sign (+1 front, -1 rear).
@@ -336,12 +338,16 @@ def ft_predict(
     inverse_dx = 1.0 / dx
     for j in range(count + 2):
         work[FT_VELOCITY, col(j)] = cell_velocity(src, first - 1 + j)
+    stencil_slopes(
+        data, src, first, count, dx, aux_centre, int(parameters[SLOPE_CODE]), work[FT_STENCIL],
+        work[FT_SLOPE : FT_SLOPE + NV],
+    )  # fmt: skip
     for j in range(count):
         i = first + j
         c = col(i)
         for v in range(NV):
             state[v] = src[v, c]
-            slope[v] = stencil_slope(data, src, v, i, dx, aux_centre)
+            slope[v] = work[FT_SLOPE + v, col(j)]
         if state[DEPTH] > 0.0:
             bound_momentum_slope(
                 state[DEPTH], state[MOMENTUM], slope, work[FT_VELOCITY, col(j)],

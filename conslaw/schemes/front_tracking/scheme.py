@@ -46,6 +46,7 @@ from numpy.typing import NDArray
 from conslaw.errors import ConfigError, InadmissibleStateError, SchemeBreakdownError
 from conslaw.grid import Grid
 from conslaw.initial import InitialCondition
+from conslaw.kernelgen import compiled_before
 from conslaw.model import Model
 from conslaw.reconstruct import Reconstructor
 from conslaw.schemes.base import AdvanceResult, BoundarySpec, ProgressCallback
@@ -363,13 +364,17 @@ class FrontTrackingNT(NessyahuTadmor):
         self._padded = {offset: self._padded_positions(offset) for offset in (0.0, 0.5)}
         self._centres = {offset: self.grid.centres(offset, self.periodic) for offset in (0.0, 0.5)}
 
+    def needs_compile(self) -> bool:
+        """Whether the front-tracking kernel's first call compiles (it is not in the cache)."""
+        return not compiled_before(self.ft_kernels, "ft_advance")
+
     @property
     def ft_kernels(self) -> Any:
         """The generated compiled front-tracking kernels (built on first use)."""
         if self._ft_kernels is None:
             self._ft_kernels = ft_kernels(
                 self.model,
-                self.reconstructor.slope_point,
+                self.reconstructor,
                 self.left.condition.fill_left,
                 self.right.condition.fill_right,
             )

@@ -1,6 +1,6 @@
 """Template: the fused Nessyahu–Tadmor (NOC) kernels, Tai et al. (2001) eqs. (10)–(18).
 
-Generated per (model, reconstructor, boundary pair) by
+Generated per model and boundary pair (and plugin reconstructor) by
 :func:`~conslaw.schemes.nessyahu_tadmor.kernels.nt_kernels`; do not import directly. Layout:
 padded arrays ``w[v, NG + i]`` for the ``n`` real cells ``i``.
 
@@ -51,6 +51,10 @@ How the kernel is made fast without a second copy of the physics:
     whose slope is bounded by the neighbouring velocities; ``DRY_DEPTH``: velocity 0 below it.
   - ``SURFACE_BED``/``SURFACE_SLOPE``: aux rows of the bed average and slope; the depth is then
     reconstructed as depth + bed.
+  - ``CUSTOM_SLOPES``: the reconstructor is a plugin's, whose ``_slope_point`` is compiled in.
+    Otherwise the built-in reconstructor is a run-time choice: its code follows the model's
+    parameters in the parameter vector (index ``SLOPE_CODE``), and :func:`stencil_slopes` hands
+    it to :func:`~conslaw.reconstruct.dispatch.builtin_slopes`, so one kernel serves them all.
 
 The arithmetic of every cell is that of :meth:`NessyahuTadmor.reference_step`, operation for
 operation (no fast-math), so the two agree to round-off.
@@ -61,6 +65,7 @@ from numba import njit
 
 from conslaw.schemes.nessyahu_tadmor.constants import DEPTH_SLOPE_LIMIT, THIN_TAIL
 from conslaw.kernelgen.stack import local_matrix, local_vector
+from conslaw.reconstruct.dispatch import builtin_slopes
 
 # --- bindings ---
 from conslaw.pointwise import (
@@ -95,6 +100,7 @@ MOMENTUM = -1
 DRY_DEPTH = 0.0
 SURFACE_BED = -1
 SURFACE_SLOPE = -1
+CUSTOM_SLOPES = False
 # --- end bindings ---
 
 NG = 3
@@ -127,7 +133,9 @@ VELOCITY = 4 * NV + 3
 # model's rest range, and dt/dx times its change from the low to the high end.
 FLUX_LOW = 4 * NV + 4
 FLUX_SPAN = 4 * NV + 5
-WORK_ROWS = 4 * NV + (6 if HAS_REST_COEFFICIENTS else 4)
+# A scratch row of the stencil values of one variable (see stencil_slopes).
+STENCIL = 4 * NV + (6 if HAS_REST_COEFFICIENTS else 4)
+WORK_ROWS = STENCIL + 1
 WORK_SIZE = WORK_ROWS * STRIDE
 # With rest coefficients, the work array continues with three rows over every new cell of a
 # step (see work_size, hold_static_runs): a new cell's momentum before the stopping rule with the
@@ -140,6 +148,8 @@ REST_SPAN = 2
 STACK_SIZE = 64
 # Lanes of the partial maxima of the wave speed (one SIMD register of doubles).
 LANES = 8
+# Index of the built-in reconstructor's code in the kernel's parameter vector.
+SLOPE_CODE = NPARAMS
 
 
 def work_size(n_cells):
@@ -259,48 +269,54 @@ def copy_cells(src, dst, n):
             dst[v, col(i)] = src[v, col(i)]
 
 
-@njit(cache=True, error_model="numpy", inline="always")
-def cell_slope(src, v, i, dx, aux_centre):
-    """Slope of variable v in padded cell i, with the depth rules of the compile-time switches."""
-    return stencil_slope(src, src, v, i, dx, aux_centre)
+@njit(cache=True, error_model="numpy")
+def stencil_slopes(data, src, first, count, dx, aux_centre, code, values, slopes):
+    """Slopes ``slopes[v, j]`` of padded cells ``first + j``, ``j < count`` (eq. 11).
+
+    The reconstructor (the built-in one of ``code``, or the bound plugin slope) acts on the
+    stencil values read from ``data``; each slope is then limited with the depth of its cell in
+    ``src`` (front tracking continues the body across a margin in ``data``; the plain scheme
+    passes ``data = src``). ``values`` is a scratch row of ``count + 4`` entries. Each variable
+    is one pass per rule, with the reconstructor chosen outside the loop over the cells.
+    """
+    for v in range(NV):
+        surface = SURFACE_BED >= 0 and v == DEPTH
+        if surface:
+            # Surface gradient method: reconstruct depth + bed, then remove the bed slope.
+            for j in range(count + 4):
+                c = col(first - 2 + j)
+                values[j] = data[v, c] + aux_centre[SURFACE_BED, c]
+        else:
+            for j in range(count + 4):
+                values[j] = data[v, col(first - 2 + j)]
+        row = slopes[v]
+        if CUSTOM_SLOPES:
+            for j in range(count):
+                row[j] = _slope_point(
+                    values[j], values[j + 1], values[j + 2], values[j + 3], values[j + 4]
+                )
+        else:
+            builtin_slopes(code, values, count, row)
+        if surface:
+            for j in range(count):
+                row[j] = row[j] - dx * aux_centre[SURFACE_SLOPE, col(first + j)]
+        if DEPTH >= 0:
+            for j in range(count):
+                row[j] = depth_limited(row[j], src[DEPTH, col(first + j)], v)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
-def stencil_slope(data, src, v, i, dx, aux_centre):
-    """Slope of variable v in padded cell i read from the stencil values ``data``, limited with
-    the depth of the cell in ``src`` (front tracking continues the body across a margin in
-    ``data``; the plain scheme passes ``data = src``)."""
-    if SURFACE_BED >= 0 and v == DEPTH:
-        # Surface gradient method: reconstruct depth + bed, then remove the bed slope.
-        slope = (
-            _slope_point(
-                data[v, col(i - 2)] + aux_centre[SURFACE_BED, col(i - 2)],
-                data[v, col(i - 1)] + aux_centre[SURFACE_BED, col(i - 1)],
-                data[v, col(i)] + aux_centre[SURFACE_BED, col(i)],
-                data[v, col(i + 1)] + aux_centre[SURFACE_BED, col(i + 1)],
-                data[v, col(i + 2)] + aux_centre[SURFACE_BED, col(i + 2)],
-            )
-            - dx * aux_centre[SURFACE_SLOPE, col(i)]
-        )
-    else:
-        slope = _slope_point(
-            data[v, col(i - 2)],
-            data[v, col(i - 1)],
-            data[v, col(i)],
-            data[v, col(i + 1)],
-            data[v, col(i + 2)],
-        )
-    if DEPTH >= 0:
-        depth = src[DEPTH, col(i)]
-        if depth <= 0.0:
-            return 0.0
-        if v == DEPTH:
-            # Both half-cell averages depth +- slope/4 keep at least half the depth.
-            limit = DEPTH_SLOPE_LIMIT * depth
-            if slope > limit:
-                slope = limit
-            elif slope < -limit:
-                slope = -limit
+@njit(cache=True, inline="always")
+def depth_limited(slope, depth, v):
+    """A slope in a cell of depth ``depth``: 0 in a dry cell; the depth's own slope bounded so
+    that both half-cell averages depth +- slope/4 keep at least half the depth."""
+    if depth <= 0.0:
+        return 0.0
+    if v == DEPTH:
+        limit = DEPTH_SLOPE_LIMIT * depth
+        if slope > limit:
+            return limit
+        if slope < -limit:
+            return -limit
     return slope
 
 
@@ -456,12 +472,17 @@ def predict_cells(
         # Each velocity once (three cells use it), in its own loop (one division per cell).
         for j in range(count + 2):
             work[slot(VELOCITY, j)] = cell_velocity(src, first - 1 + j)
+    rows = work[:WORK_SIZE].reshape((WORK_ROWS, STRIDE))
+    stencil_slopes(
+        src, src, first, count, dx, aux_centre, int(parameters[SLOPE_CODE]), rows[STENCIL],
+        rows[SLOPE : SLOPE + NV],
+    )  # fmt: skip
     for j in range(count):
         i = first + j
         c = col(i)
         for v in range(NV):
             state[v] = src[v, c]
-            slope[v] = cell_slope(src, v, i, dx, aux_centre)
+            slope[v] = work[slot(SLOPE + v, j)]
         if MOMENTUM >= 0 and state[DEPTH] > 0.0:
             bound_momentum_slope(
                 state[DEPTH], state[MOMENTUM], slope, work[slot(VELOCITY, j)],
@@ -929,10 +950,13 @@ def depth_share(w, i, side, dt, dx, aux, parameters):
     matrix = local_matrix(NV)
     params = local_vector(NPARAMS)
     load_params(parameters, params)
+    values = local_vector(5)
+    slopes = local_matrix(NV)
+    stencil_slopes(w, w, i, 1, dx, aux, int(parameters[SLOPE_CODE]), values, slopes)
     c = col(i)
     for v in range(NV):
         state[v] = w[v, c]
-        slope[v] = cell_slope(w, v, i, dx, aux)
+        slope[v] = slopes[v, 0]
     if state[DEPTH] > 0.0:
         bound_momentum_slope(
             state[DEPTH], state[MOMENTUM], slope, cell_velocity(w, i - 1), cell_velocity(w, i),

@@ -15,6 +15,7 @@ from numpy.typing import NDArray
 
 from conslaw.errors import ConfigError, InadmissibleStateError, SchemeBreakdownError
 from conslaw.grid import Grid
+from conslaw.kernelgen import compiled_before
 from conslaw.model import Model
 from conslaw.reconstruct import Reconstructor
 from conslaw.reconstruct.base import STENCIL_HALF_WIDTH
@@ -26,7 +27,7 @@ from conslaw.schemes.base import (
     Scheme,
 )
 from conslaw.schemes.nessyahu_tadmor.constants import DEPTH_SLOPE_LIMIT, THIN_TAIL
-from conslaw.schemes.nessyahu_tadmor.kernels import nt_kernels
+from conslaw.schemes.nessyahu_tadmor.kernels import kernel_parameters, nt_kernels
 from conslaw.state import State
 
 Array = NDArray[np.float64]
@@ -174,7 +175,7 @@ class NessyahuTadmor(Scheme):
         super().__init__(model, reconstructor, grid, left, right, validate_cfl(cfl))
         self.n_primary = grid.n_cells
         self.n_staggered = grid.n_cells_at(0.5, self.periodic)
-        self.params = model.param_vector()
+        self.params = kernel_parameters(model, reconstructor)
         self.bc_left = left.condition.data(model, left.options)
         self.bc_right = right.condition.data(model, right.options)
         self._aux = {offset: self._aux_family(offset) for offset in (0.0, 0.5)}
@@ -268,12 +269,16 @@ class NessyahuTadmor(Scheme):
         if self._kernels is None:
             self._kernels = nt_kernels(
                 self.model,
-                self.reconstructor.slope_point,
+                self.reconstructor,
                 self.left.condition.fill_left,
                 self.right.condition.fill_right,
             )
             self._work = np.zeros(self._kernels.work_size(self.n_staggered))
         return self._kernels
+
+    def needs_compile(self) -> bool:
+        """Whether the fused kernel's first call compiles (it is not in the kernel cache)."""
+        return not compiled_before(self.kernels, "advance")
 
     def _family(self, state: State) -> tuple[int, bool]:
         staggered = state.offset != 0.0
