@@ -178,8 +178,10 @@ def slot(row, j):
 
 @njit(cache=True)
 def load_params(params, local):
-    """Copy the parameters into a stack array: the compiler then knows that no store to the state
-    changes them, keeps them in registers and hoists them out of the loops."""
+    """Copy the model's parameters into a stack array: the compiler then knows that no store to
+    the state changes them, keeps them in registers and hoists them out of the loops. The copy
+    ends before the reconstructor's code (``SLOPE_CODE``): whatever takes slopes is handed the
+    kernel's own parameter vector."""
     for k in range(NPARAMS):
         local[k] = params[k]
 
@@ -1055,7 +1057,7 @@ def hold_resting_cells(w0, w1, w2, n0, dt, dx, aux0, aux1, params, work):
         rest_right = at_rest(w0, w2, 0)
         moved_right, returned_right = 0.0, 0.0
         if rest_right:
-            moved_right = face_transfer(w0, w1, 0, dt, dx, aux0, aux1, local)
+            moved_right = face_transfer(w0, w1, 0, dt, dx, aux0, aux1, params)
         for j in range(n0):
             rest = rest_right
             moved_left, returned_left = moved_right, returned_right
@@ -1067,14 +1069,14 @@ def hold_resting_cells(w0, w1, w2, n0, dt, dx, aux0, aux1, params, work):
                         moved_right, returned_right = work[2 * used], work[2 * used + 1]
                     else:
                         moved_right, returned_right = face_correction(
-                            w0, w1, w2, j + 1, rest, dt, dx, aux0, aux1, local
+                            w0, w1, w2, j + 1, rest, dt, dx, aux0, aux1, params
                         )
                         if apply == 0 and used < capacity:
                             work[2 * used], work[2 * used + 1] = moved_right, returned_right
                             stored = used + 1
                     used += 1
             elif rest:
-                moved_right = face_transfer(w0, w1, n0, dt, dx, aux0, aux1, local)
+                moved_right = face_transfer(w0, w1, n0, dt, dx, aux0, aux1, params)
             c = col(NG + j)
             if rest:
                 # What still crosses each face (nothing between two cells at rest). Sums
