@@ -185,14 +185,38 @@ def scene_path(name_or_path: str | Path) -> tuple[str, Path]:
 
 
 def read_scene_file(path: Path) -> dict[str, Any]:
-    """Parse a scene file; malformed TOML is a ConfigError naming the file."""
+    """Parse a scene file; malformed TOML is a ConfigError naming the file.
+
+    TOML is UTF-8 (https://toml.io/en/v1.0.0, "Spec"); a leading UTF-8 byte-order mark, as some
+    Windows editors write, is skipped. A file in another encoding (UTF-16, Latin-1) or a binary
+    file is a ConfigError saying so.
+    """
     try:
-        with open(path, "rb") as handle:
-            return tomllib.load(handle)
-    except tomllib.TOMLDecodeError as error:
-        raise ConfigError(f"scene file '{path}' is not valid TOML: {error}") from None
+        data = path.read_bytes()
     except OSError as error:
         raise ConfigError(f"cannot read scene file '{path}': {error.strerror}") from None
+    try:
+        return tomllib.loads(scene_text(data, f"scene file '{path}'"))
+    except tomllib.TOMLDecodeError as error:
+        raise ConfigError(f"scene file '{path}' is not valid TOML: {error}") from None
+
+
+def scene_text(data: bytes, what: str) -> str:
+    """The text of a scene file's bytes (UTF-8, a byte-order mark skipped); ``what`` names the
+    file in the ConfigError raised for any other encoding."""
+    utf8 = "TOML files are UTF-8: save it as UTF-8"
+    if data.startswith((b"\xff\xfe", b"\xfe\xff")):
+        raise ConfigError(f"{what} is UTF-16 text; {utf8}")
+    if b"\0" in data:
+        raise ConfigError(f"{what} is not a text file (it holds NUL bytes); {utf8}")
+    try:
+        return data.decode("utf-8").removeprefix("\ufeff")
+    except UnicodeDecodeError as error:
+        line = data[: error.start].count(b"\n") + 1
+        byte = data[error.start]
+        raise ConfigError(
+            f"{what} is not UTF-8 text (byte 0x{byte:02x} on line {line}, e.g. Latin-1); {utf8}"
+        ) from None
 
 
 def apply_overrides(table: dict[str, Any], overrides: Mapping[str, Any]) -> dict[str, Any]:

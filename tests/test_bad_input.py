@@ -39,8 +39,8 @@ SW = ["run", "dam-break-wet", "--set"]
 RIEMANN = ["run", "burgers-riemann", "--set"]
 
 
-def scene_file(text: str) -> dict[str, str]:
-    """Files of a case that runs ``bad.toml``."""
+def scene_file(text: str | bytes) -> dict[str, str | bytes]:
+    """Files of a case that runs ``bad.toml`` (bytes: written as they are)."""
     return {"bad.toml": text}
 
 
@@ -52,14 +52,14 @@ def table_chute(rows: str) -> tuple[list[str], dict[str, str]]:
     return args, {"chute.csv": rows}
 
 
-BadInput = tuple[str, list[str], list[str], dict[str, str]]
+BadInput = tuple[str, list[str], list[str], dict[str, str | bytes]]
 
 
 def bad(
     case_id: str,
-    args: list[str] | tuple[list[str], dict[str, str]],
+    args: list[str] | tuple[list[str], dict[str, str | bytes]],
     fragments: list[str],
-    files: dict[str, str] | None = None,
+    files: dict[str, str | bytes] | None = None,
 ) -> BadInput:
     """A case: its id, the command-line arguments (or arguments and files), the fragments its
     error line must contain, and the files to create first."""
@@ -70,6 +70,25 @@ def bad(
 
 #: (id, arguments, fragments the error line must contain, files to create first)
 CASES: list[BadInput] = [
+    # ---- scene files in another encoding than UTF-8, or not text at all
+    bad(
+        "scene-file-utf16",
+        ["run", "bad.toml"],
+        ["bad.toml", "UTF-16", "save it as UTF-8"],
+        scene_file(SCENE.encode("utf-16")),
+    ),
+    bad(
+        "scene-file-latin1",
+        ["run", "bad.toml"],
+        ["bad.toml", "not UTF-8", "byte 0xfc on line 1"],
+        scene_file(('description = "Lawine \u00fcber dem Hang"\n' + SCENE).encode("latin-1")),
+    ),
+    bad(
+        "scene-file-binary",
+        ["run", "bad.toml"],
+        ["bad.toml", "not a text file"],
+        scene_file(bytes(range(256))),
+    ),
     # ---- unknown names, with the allowed values and a close match
     bad(
         "unknown-scene",
@@ -404,12 +423,15 @@ def snapshot(folder: Path) -> dict[str, tuple[int, bytes]]:
     }
 
 
-def prepare(folder: Path, files: dict[str, str]) -> None:
+def prepare(folder: Path, files: dict[str, str | bytes]) -> None:
     """An earlier run's output and the case's files."""
     (folder / "earlier").mkdir()
     (folder / "earlier" / "states.npz").write_bytes(b"an earlier run's output")
-    for name, text in files.items():
-        (folder / name).write_text(text)
+    for name, content in files.items():
+        if isinstance(content, bytes):
+            (folder / name).write_bytes(content)
+        else:
+            (folder / name).write_text(content)
 
 
 @pytest.mark.parametrize(
@@ -418,7 +440,7 @@ def prepare(folder: Path, files: dict[str, str]) -> None:
 def test_bad_input_is_one_line_exit_2_nothing_written(
     args: list[str],
     fragments: list[str],
-    files: dict[str, str],
+    files: dict[str, str | bytes],
     tmp_path: Path,
     monkeypatch: pytest.MonkeyPatch,
     capsys: pytest.CaptureFixture[str],
@@ -499,3 +521,11 @@ def test_api_refuses_overrides_of_a_scene_object_and_an_unwritable_folder(tmp_pa
     with pytest.raises(ConfigError, match="not writable"):
         conslaw.run("burgers-sine", out=blocker / "sub")
     assert blocker.read_text() == "keep me" and sorted(tmp_path.iterdir()) == [blocker]
+
+
+def test_a_scene_file_with_a_utf8_byte_order_mark_loads(tmp_path: Path) -> None:
+    """Some Windows editors start UTF-8 files with a byte-order mark: it is skipped."""
+    path = tmp_path / "marked.toml"
+    path.write_bytes(SCENE.encode("utf-8-sig"))
+    scene = load_scene(path)
+    assert scene.model == "burgers" and scene.n_cells == 16

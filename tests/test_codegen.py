@@ -244,3 +244,30 @@ def test_kernels_of_other_bindings_are_not_pruned(
         builtin = registry.reconstructors.get(name)
         again = ft_kernels(model, builtin, wall.fill_left, wall.fill_right)
         assert again is first, name
+
+
+def test_a_first_compile_is_announced(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    """With an empty kernel cache a scheme says that its kernels will be compiled, and after
+    :meth:`compile` that they will not; a run tells its ``notice`` callback once, before the
+    compile, and not at all when the kernels are cached."""
+    from conftest import make_scheme
+
+    from conslaw.config import load_scene
+    from conslaw.simulation import simulate
+    from conslaw.state import State
+
+    monkeypatch.setenv("CONSLAW_CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(codegen, "_loaded", {})
+    scheme = make_scheme("burgers", "weno5", 16)
+    assert scheme.needs_compile()
+    state = State(0.0, scheme.grid.centres(), np.zeros((1, 16)), 0.0)
+    scheme.compile(state)
+    assert not scheme.needs_compile()
+    assert not make_scheme("burgers", "minmod", 16).needs_compile()  # the same kernel
+    scene = load_scene("burgers-sine", {"n_cells": 16, "t_end": 0.01})
+    notices: list[str] = []
+    simulate(scene, notice=notices.append)
+    assert notices == []
+    monkeypatch.setattr(type(scheme), "needs_compile", lambda self: True)
+    simulate(scene, notice=notices.append)
+    assert len(notices) == 1 and "compiling the nessyahu-tadmor kernels for burgers" in notices[0]
