@@ -150,10 +150,12 @@ def _command_run(args: argparse.Namespace) -> int:
     check_output_dir(out)
     # Fork the figure child before the kernels load (matplotlib's import overlaps the solve).
     worker = FigureWorker.start() if scene.plot else None
+    writer = RunWriter(out, scene, functools.partial(write_figures, worker=worker))
     try:
-        figures = functools.partial(write_figures, worker=worker)
-        return _run_scene(scene, out, RunWriter(out, scene, figures))
+        writer.claim()
+        return _run_scene(scene, out, writer)
     finally:
+        writer.release()
         if worker is not None:
             worker.close()
 

@@ -53,6 +53,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+try:
+    import fcntl
+except ImportError:  # Windows: no advisory locks, a folder is not claimed
+    fcntl = None  # type: ignore[assignment]
+
 from conslaw import tomlwrite
 from conslaw.errors import ConfigError
 from conslaw.state import node_arrays
@@ -391,6 +396,7 @@ class RunWriter:
         self.figures = figures
         self.formats = scene.output_formats
         self.last_time: float | None = None
+        self._claim: int | None = None
         self._files: dict[Path, None] = {}
         self._mesh: tuple[Array, NDArray[np.int64]] | None = None
         self._xdmf: list[tuple[float, str, list[str], dict[str, float]]] = []
@@ -400,6 +406,30 @@ class RunWriter:
     def files(self) -> list[Path]:
         """Every file written so far, in the order first written."""
         return list(self._files)
+
+    def claim(self) -> None:
+        """Hold the output folder for this run (if it exists yet; :meth:`output` claims it when
+        it makes it): an advisory lock (``flock``) on the folder, released by :meth:`release`,
+        :meth:`finish` or the end of the process. A folder another run holds, in this process or
+        another, is a ConfigError naming it, before anything is written (docs/output.md)."""
+        if self._claim is not None or fcntl is None or not self.folder.is_dir():
+            return
+        handle = os.open(self.folder, os.O_RDONLY)
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            os.close(handle)
+            raise ConfigError(
+                f"output folder '{self.folder}' is being written by another conslaw run; "
+                "wait for it to end or choose another output folder"
+            ) from None
+        self._claim = handle
+
+    def release(self) -> None:
+        """Let other runs write into the folder again."""
+        if self._claim is not None:
+            os.close(self._claim)
+            self._claim = None
 
     def _wrote(self, path: Path) -> None:
         self._files.pop(path, None)
@@ -416,7 +446,9 @@ class RunWriter:
     def output(self, result: RunResult, index: int) -> None:
         """The series files of output ``index`` (XDMF/HDF5, VTU, CSV), then their indexes."""
         if not self._files:
+            self.claim()  # before the writability probe, if the folder exists
             prepare_output_dir(self.folder)
+            self.claim()
             self._wrote(write_toml(self.folder / "scene.toml", self.scene.to_table()))
         if not {"xdmf", "vtu", "csv"} & set(self.formats):
             return
@@ -464,15 +496,19 @@ class RunWriter:
         same folder left with conslaw's output names that this run did not write (a shorter
         run, other formats; other files are not touched); returns every file written."""
         if not self._files:
+            self.release()
             return []
-        with signals_held():
-            self.history(result, final=True)
-        if self.scene.plot and self.figures is not None:
-            for path in self.figures(result, self.folder):
-                self._wrote(path)
-        for entry in self.folder.iterdir():
-            if _OWN_FILE.match(entry.name) and entry not in self._files:
-                entry.unlink(missing_ok=True)
+        try:
+            with signals_held():
+                self.history(result, final=True)
+            if self.scene.plot and self.figures is not None:
+                for path in self.figures(result, self.folder):
+                    self._wrote(path)
+            for entry in self.folder.iterdir():
+                if _OWN_FILE.match(entry.name) and entry not in self._files:
+                    entry.unlink(missing_ok=True)
+        finally:
+            self.release()
         return self.files
 
 
@@ -481,6 +517,10 @@ def write_run(result: RunResult, folder: Path, figures: FigureWriter | None = No
     run): the formats of ``output.formats``, the resolved scene and (with ``figures``) the
     figures."""
     writer = RunWriter(folder, result.scene, figures)
-    for index in range(len(result.states)):
-        writer.output(result, index)
-    return writer.finish(result)
+    try:
+        writer.claim()
+        for index in range(len(result.states)):
+            writer.output(result, index)
+        return writer.finish(result)
+    finally:
+        writer.release()

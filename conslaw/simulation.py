@@ -243,8 +243,12 @@ def run(
 
     check_output_dir(Path(out))
     writer = RunWriter(Path(out), resolved, write_figures)
-    result = simulate(resolved, progress, writer)
-    result.files = writer.finish(result)
+    try:
+        writer.claim()
+        result = simulate(resolved, progress, writer)
+        result.files = writer.finish(result)
+    finally:
+        writer.release()
     return result
 
 

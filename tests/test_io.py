@@ -389,3 +389,54 @@ def test_output_files_get_the_permissions_of_open(tmp_path: Path) -> None:
     finally:
         os.umask(previous)
         io._FILE_MODE = None
+
+
+def test_a_folder_being_written_is_refused_to_a_second_run(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """An output folder belongs to one run at a time: while another process holds it (as a run
+    does from its first output to its end), ``conslaw run`` into it stops in one line naming the
+    folder, exit 2, and leaves every file as it was; once it is free, the run writes."""
+    from test_bad_input import run_in_process, snapshot
+
+    shared = tmp_path / "shared"
+    shared.mkdir()
+    (shared / "states.npz").write_bytes(b"the other run's output")
+    holder = subprocess.Popen(
+        [sys.executable, "-c", "import fcntl, os, sys, time\n"
+         f"fd = os.open({str(shared)!r}, os.O_RDONLY)\n"
+         "fcntl.flock(fd, fcntl.LOCK_EX)\nprint('held', flush=True)\nsys.stdin.read()\n"],
+        stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    try:
+        assert holder.stdout is not None and holder.stdout.readline().strip() == "held"
+        before = snapshot(tmp_path)
+        args = ["run", "burgers-riemann", "--set", "n_cells=20", "--no-plot", "--out", str(shared)]
+        code, _, err = run_in_process(args, capsys)
+        lines = err.strip().splitlines()
+        assert code == 2 and len(lines) == 1, err
+        assert str(shared) in lines[0] and "another conslaw run" in lines[0], lines[0]
+        assert snapshot(tmp_path) == before
+    finally:
+        holder.communicate("")
+    code, _, err = run_in_process(args, capsys)
+    assert code == 0, err
+    assert (shared / "scene.toml").exists()
+
+
+def test_two_writers_in_one_process_do_not_share_a_folder(tmp_path: Path) -> None:
+    """The claim holds between threads and writers of one process too: the second writer's
+    first output is refused before it writes, and the folder is free after the first ends."""
+    from conslaw.errors import ConfigError
+    from conslaw.io import RunWriter
+
+    result = conslaw.run("burgers-riemann", n_cells=20)
+    first = RunWriter(tmp_path / "out", result.scene)
+    second = RunWriter(tmp_path / "out", result.scene)
+    first.output(result, 0)
+    with pytest.raises(ConfigError, match="another conslaw run"):
+        second.output(result, 0)
+    assert second.files == []
+    first.finish(result)
+    second.output(result, 0)
+    assert second.files and second.finish(result)
