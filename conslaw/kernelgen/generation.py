@@ -60,7 +60,7 @@ def cache_dir() -> Path:
 def compiled_before(module: ModuleType, function: str) -> bool:
     """Whether numba's cache beside a generated ``module`` holds ``function`` compiled (for some
     argument types): False means its first call compiles. Always True without the JIT."""
-    if numba.config.DISABLE_JIT:
+    if getattr(numba.config, "DISABLE_JIT", False):
         return True
     folder = Path(module.__file__ or "").parent / "__pycache__"
     return any(folder.glob(f"{module.__name__}.{function}-*.nbi"))
