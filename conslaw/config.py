@@ -205,10 +205,14 @@ def scene_text(data: bytes, what: str) -> str:
     """The text of a scene file's bytes (UTF-8, a byte-order mark skipped); ``what`` names the
     file in the ConfigError raised for any other encoding."""
     utf8 = "TOML files are UTF-8: save it as UTF-8"
+    if data.startswith((b"\xff\xfe\0\0", b"\0\0\xfe\xff")):
+        raise ConfigError(f"{what} is UTF-32 text; {utf8}")
     if data.startswith((b"\xff\xfe", b"\xfe\xff")):
         raise ConfigError(f"{what} is UTF-16 text; {utf8}")
     if b"\0" in data:
-        raise ConfigError(f"{what} is not a text file (it holds NUL bytes); {utf8}")
+        raise ConfigError(
+            f"{what} is not UTF-8 text (it holds NUL bytes: UTF-16 or UTF-32, or not text); {utf8}"
+        )
     try:
         return data.decode("utf-8").removeprefix("\ufeff")
     except UnicodeDecodeError as error:

@@ -44,6 +44,7 @@ import re
 import signal
 import tempfile
 import threading
+import weakref
 import xml.etree.ElementTree as ET
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
@@ -414,21 +415,29 @@ class RunWriter:
         another, is a ConfigError naming it, before anything is written (docs/output.md)."""
         if self._claim is not None or fcntl is None or not self.folder.is_dir():
             return
-        handle = os.open(self.folder, os.O_RDONLY)
+        try:
+            handle = os.open(self.folder, os.O_RDONLY)
+        except OSError:
+            return  # not readable, or gone: prepare_output_dir reports what matters
         try:
             fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:
+        except BlockingIOError:
             os.close(handle)
             raise ConfigError(
                 f"output folder '{self.folder}' is being written by another conslaw run; "
                 "wait for it to end or choose another output folder"
             ) from None
+        except OSError:  # no flock here (some network file systems): run unlocked
+            os.close(handle)
+            return
         self._claim = handle
+        # Closed when the writer is dropped without release() (a failed run in a notebook).
+        self._finalizer = weakref.finalize(self, os.close, handle)
 
     def release(self) -> None:
         """Let other runs write into the folder again."""
         if self._claim is not None:
-            os.close(self._claim)
+            self._finalizer()  # closes the descriptor once
             self._claim = None
 
     def _wrote(self, path: Path) -> None:

@@ -169,6 +169,16 @@ def check_reconstructor(name: str, obj: Any) -> Reconstructor:
         import_path(obj.slope_point)
     except (TypeError, AttributeError, ImportError) as error:
         raise ContractError(f"reconstructor '{name}': {error}") from None
+    if obj.code is not None:
+        # The kernels run the built-in slope of the code: it must be this object's own.
+        from conslaw.reconstruct import builtin_reconstructors
+
+        owners = {r.code: r.slope_point for r in builtin_reconstructors()}
+        if owners.get(obj.code) is not obj.slope_point:
+            raise ContractError(
+                f"reconstructor '{name}': code {obj.code} belongs to another slope function; "
+                "a plugin's reconstructor has code None"
+            )
     return obj
 
 

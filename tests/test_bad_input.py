@@ -86,7 +86,7 @@ CASES: list[BadInput] = [
     bad(
         "scene-file-binary",
         ["run", "bad.toml"],
-        ["bad.toml", "not a text file"],
+        ["bad.toml", "not UTF-8 text", "NUL bytes"],
         scene_file(bytes(range(256))),
     ),
     # ---- unknown names, with the allowed values and a close match

@@ -152,3 +152,18 @@ def test_threads_see_every_entry_in_a_fresh_interpreter() -> None:
         done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
         assert done.returncode == 0, done.stderr
         assert done.stdout.strip() == "[('burgers', 'savage-hutter', 'shallow-water')]"
+
+
+def test_a_reconstructor_with_another_slope_under_a_built_in_code_is_refused() -> None:
+    """The kernels run the built-in slope of a reconstructor's code: a plugin that copies a
+    built-in (``dataclasses.replace``) but brings its own slope must say code None."""
+    from dataclasses import replace as copy_with
+
+    from conslaw.reconstruct import limiters
+
+    mc = registry.reconstructors.get("mc")
+    wrong = copy_with(mc, name="my-limiter", slope_point=limiters.slope_minmod)
+    with pytest.raises(registry.ContractError, match="code 4 belongs to another slope"):
+        registry.check_reconstructor("my-limiter", wrong)
+    assert registry.check_reconstructor("my-limiter", copy_with(wrong, code=None)).code is None
+    assert registry.check_reconstructor("mc", mc) is mc

@@ -62,8 +62,13 @@ def compiled_before(module: ModuleType, function: str) -> bool:
     argument types): False means its first call compiles. Always True without the JIT."""
     if getattr(numba.config, "DISABLE_JIT", False):
         return True
+    pattern = f"{module.__name__}.{function}-*.nbi"
     folder = Path(module.__file__ or "").parent / "__pycache__"
-    return any(folder.glob(f"{module.__name__}.{function}-*.nbi"))
+    if any(folder.glob(pattern)):
+        return True
+    # With NUMBA_CACHE_DIR, numba keeps its index files in a tree under that folder.
+    numba_folder = os.environ.get("NUMBA_CACHE_DIR", "")
+    return bool(numba_folder) and any(Path(numba_folder).rglob(pattern))
 
 
 def import_path(function: Callable[..., Any]) -> tuple[str, str]:

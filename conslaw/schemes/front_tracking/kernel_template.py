@@ -27,7 +27,7 @@ import numpy as np
 from numba import njit, objmode
 
 # The NT kernels' names this template uses: generated, the import names the NT kernel module of
-# the same model, reconstructor and boundary pair (codegen.ft_kernels).
+# the same model and bindings (kernels.ft_kernels).
 from conslaw.schemes.nessyahu_tadmor.kernel_template import (
     DEPTH,
     DRY_DEPTH,

@@ -640,10 +640,10 @@ class FrontTrackingNT(NessyahuTadmor):
         uniform_values = self._margin_aux(self.grid.x_min) if uniform else np.zeros(1)
         t, steps = state.t, 0
         while True:
-            # The kernel module is shared by every scheme with the same model class,
-            # reconstructor and boundaries, and its call back (the coefficients at a margin on
-            # a curved chute) is a module attribute: set for this scheme before every call (a
-            # progress callback may have run another scheme's advance), under a lock (threads).
+            # The kernel module is shared by every scheme with the same model class (and
+            # plugin reconstructor or boundaries), and its call back (the coefficients at a
+            # margin on a curved chute) is a module attribute: set for this scheme before every
+            # call (a progress callback may have run another scheme's advance), under a lock.
             with _CALLBACK_LOCK:
                 kernels.margin_aux_source = self._margin_aux
                 t, pairs, rows, status, where, step, dt = kernels.ft_advance(
