@@ -90,8 +90,9 @@ FT_FLUX = NV
 FT_QUARTER_LEFT = 2 * NV
 FT_QUARTER_RIGHT = 3 * NV
 FT_VELOCITY = 4 * NV
-FT_STENCIL = 4 * NV + 1
-FT_WORK_ROWS = 4 * NV + 2
+FT_WORK_ROWS = 4 * NV + 1
+# The stencil values of stencil_slopes: the first flux row, filled only after the slopes.
+FT_STENCIL = FT_FLUX
 # Profile row of a margin: fitted slope S and curvature C of h = S d - C d^2, mean velocity of
 # the inner neighbour, velocity gradient, position and velocity at the start and at mid-step,
 # the triangle's slope in the margin cell, the sign (+1 front, -1 rear).

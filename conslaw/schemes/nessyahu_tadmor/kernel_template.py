@@ -133,9 +133,10 @@ VELOCITY = 4 * NV + 3
 # model's rest range, and dt/dx times its change from the low to the high end.
 FLUX_LOW = 4 * NV + 4
 FLUX_SPAN = 4 * NV + 5
-# A scratch row of the stencil values of one variable (see stencil_slopes).
-STENCIL = 4 * NV + (6 if HAS_REST_COEFFICIENTS else 4)
-WORK_ROWS = STENCIL + 1
+WORK_ROWS = 4 * NV + (6 if HAS_REST_COEFFICIENTS else 4)
+# The stencil values of one variable (see stencil_slopes) use the first flux row, which
+# predict_cells fills only after the slopes: the work rows stay as small as the L1 cache wants.
+STENCIL = FLUX
 WORK_SIZE = WORK_ROWS * STRIDE
 # With rest coefficients, the work array continues with three rows over every new cell of a
 # step (see work_size, hold_static_runs): a new cell's momentum before the stopping rule with the
