@@ -203,6 +203,9 @@ def _run_scene(scene: Scene, out: Path, writer: RunWriter) -> int:
             signal.signal(getattr(signal, name), handler)
     try:
         files = writer.finish(result)
+    except ConslawError as failure:
+        kept = f"outputs up to t={writer.last_time:.6g} are complete in {out}"
+        raise type(failure)(f"{failure}; {kept}") from None
     except KeyboardInterrupt:
         sys.stderr.write(
             f"conslaw: interrupted while drawing the figures after the run reached "

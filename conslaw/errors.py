@@ -37,6 +37,11 @@ class SchemeBreakdownError(ConslawError, ArithmeticError):
         self.completed_states: list[Any] = []
 
 
+class OutputError(ConslawError, OSError):
+    """An output could not be written (a full disk, a file-size limit, the folder removed): the
+    run stops, and the folder keeps every output committed before (docs/output.md)."""
+
+
 class StepLimitError(SchemeBreakdownError):
     """A run took more time steps than the scene's ``max_steps`` before reaching ``t_end``.
 

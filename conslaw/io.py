@@ -60,7 +60,7 @@ except ImportError:  # Windows: no advisory locks, a folder is not claimed
     fcntl = None  # type: ignore[assignment]
 
 from conslaw import tomlwrite
-from conslaw.errors import ConfigError
+from conslaw.errors import ConfigError, OutputError
 from conslaw.state import node_arrays
 
 if TYPE_CHECKING:
@@ -95,16 +95,66 @@ def atomic_write_bytes(path: Path, data: bytes) -> Path:
     """Write ``data`` to ``path`` through a temporary file and an atomic rename (with the
     permissions of a file made by ``open``, not the owner-only ones of the temporary file)."""
     path = Path(path)
-    handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    temporary = write_temporary(path, data)
+    try:
+        os.replace(temporary, path)
+    except BaseException:
+        temporary.unlink(missing_ok=True)
+        raise
+    return path
+
+
+def write_temporary(path: Path, data: bytes) -> Path:
+    """``data`` in a new temporary file beside ``path`` (removed again if writing fails), with
+    the permissions of a file made by ``open``; the caller renames it into place."""
+    path = Path(path)
+    handle, name = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    temporary = Path(name)
     try:
         with os.fdopen(handle, "wb") as stream:
             stream.write(data)
         os.chmod(temporary, _file_mode())
-        os.replace(temporary, path)
     except BaseException:
-        Path(temporary).unlink(missing_ok=True)
+        temporary.unlink(missing_ok=True)
         raise
-    return path
+    return temporary
+
+
+class OutputCommit:
+    """The files of one output time, put in place together or not at all.
+
+    :meth:`put` writes each file under a temporary name beside its destination; :meth:`apply`
+    renames them all into place (data files first, then the indexes that list them, in the order
+    they were put); :meth:`undo` removes the temporary files. A write that fails (a full disk)
+    therefore leaves every file of the folder as it was before this output.
+    """
+
+    def __init__(self) -> None:
+        self._staged: list[tuple[Path, Path]] = []
+
+    def put(self, path: Path, data: bytes) -> Path:
+        """Stage ``data`` for ``path``; returns ``path``. An OSError names ``path``."""
+        try:
+            temporary = write_temporary(path, data)
+        except OSError as error:
+            if error.filename is None:
+                error.filename = str(path)
+            raise
+        self._staged.append((temporary, Path(path)))
+        return Path(path)
+
+    def apply(self) -> None:
+        """Rename every staged file into place."""
+        while self._staged:
+            temporary, path = self._staged[0]
+            os.replace(temporary, path)
+            self._staged.pop(0)
+
+    def undo(self) -> None:
+        """Remove the staged files not yet in place."""
+        for temporary, _ in self._staged:
+            temporary.unlink(missing_ok=True)
+        self._staged.clear()
 
 
 def check_output_dir(folder: Path) -> Path:
@@ -137,14 +187,24 @@ def prepare_output_dir(folder: Path) -> Path:
 
 def write_npz(path: Path, compressed: bool = True, **arrays: Any) -> Path:
     """Atomic ``numpy.savez_compressed`` (``numpy.savez`` with ``compressed=False``)."""
+    return atomic_write_bytes(path, npz_bytes(compressed, **arrays))
+
+
+def npz_bytes(compressed: bool = True, **arrays: Any) -> bytes:
+    """The bytes of ``numpy.savez_compressed`` (``numpy.savez`` with ``compressed=False``)."""
     buffer = io.BytesIO()
     (np.savez_compressed if compressed else np.savez)(buffer, **arrays)
-    return atomic_write_bytes(path, buffer.getvalue())
+    return buffer.getvalue()
 
 
 def write_toml(path: Path, document: dict[str, Any]) -> Path:
     """Atomic TOML file."""
-    return atomic_write_bytes(path, tomlwrite.dumps(document).encode())
+    return atomic_write_bytes(path, toml_bytes(document))
+
+
+def toml_bytes(document: dict[str, Any]) -> bytes:
+    """A TOML document as UTF-8 bytes."""
+    return tomlwrite.dumps(document).encode()
 
 
 def write_figure(path: Path, figure: Any) -> Path:
@@ -159,10 +219,15 @@ MARGIN_COLUMNS = ("t", "x_rear", "u_rear", "x_front", "u_front")
 
 def write_margins_csv(path: Path, margins: Any) -> Path:
     """Atomic CSV of the margin history (columns :data:`MARGIN_COLUMNS`, empty for NaN)."""
+    return atomic_write_bytes(path, margins_csv_bytes(margins))
+
+
+def margins_csv_bytes(margins: Any) -> bytes:
+    """CSV of the margin history (columns :data:`MARGIN_COLUMNS`, empty for NaN)."""
     lines = [",".join(MARGIN_COLUMNS)]
     for row in np.asarray(margins):
         lines.append(",".join("" if np.isnan(v) else repr(float(v)) for v in row))
-    return atomic_write_bytes(path, ("\n".join(lines) + "\n").encode())
+    return ("\n".join(lines) + "\n").encode()
 
 
 def mesh_points_cells(edges: Array) -> tuple[Array, NDArray[np.int64]]:
@@ -207,6 +272,11 @@ def output_field_data(result: RunResult, index: int) -> dict[str, float]:
 
 
 def write_states(path: Path, result: RunResult, compressed: bool = True) -> Path:
+    """Atomic ``states.npz`` of the outputs so far (:func:`states_bytes`)."""
+    return atomic_write_bytes(path, states_bytes(result, compressed))
+
+
+def states_bytes(result: RunResult, compressed: bool = True) -> bytes:
     """``states.npz`` of the outputs so far (``compressed=False``: stored without compression,
     as during a run, where it is rewritten at every output time).
 
@@ -224,8 +294,7 @@ def write_states(path: Path, result: RunResult, compressed: bool = True) -> Path
             for e, s in zip(result.exact, result.states, strict=True)
         ]
     )
-    return write_npz(
-        path,
+    return npz_bytes(
         compressed,
         t=np.array([s.t for s in result.states]),
         x=result.grid.centres(),
@@ -240,13 +309,18 @@ def write_states(path: Path, result: RunResult, compressed: bool = True) -> Path
 
 def write_h5(path: Path, datasets: dict[str, Any]) -> Path:
     """Atomic HDF5 file with one dataset per entry (built in memory, then renamed into place)."""
+    return atomic_write_bytes(path, h5_bytes(datasets))
+
+
+def h5_bytes(datasets: dict[str, Any]) -> bytes:
+    """An HDF5 file with one dataset per entry, built in memory."""
     import h5py
 
     buffer = io.BytesIO()
     with h5py.File(buffer, "w") as handle:
         for name, values in datasets.items():
             handle.create_dataset(name, data=values)
-    return atomic_write_bytes(path, buffer.getvalue())
+    return buffer.getvalue()
 
 
 def _data_item(parent: ET.Element, values_shape: tuple[int, ...], kind: str, text: str) -> None:
@@ -446,19 +520,65 @@ class RunWriter:
 
     def __call__(self, result: RunResult) -> None:
         """Write the newest output of ``result`` (its last state) and the files holding the
-        whole history (``states.npz``, ``margins.csv``)."""
-        with signals_held():
-            self.output(result, len(result.states) - 1)
-            self.history(result)
-            self.last_time = result.states[-1].t
+        whole history (``states.npz``, ``margins.csv``), all or nothing."""
+        self.write(result, len(result.states) - 1, history=True)
 
-    def output(self, result: RunResult, index: int) -> None:
-        """The series files of output ``index`` (XDMF/HDF5, VTU, CSV), then their indexes."""
-        if not self._files:
+    def write(self, result: RunResult, index: int, history: bool) -> None:
+        """Output ``index`` of ``result`` (and, with ``history``, ``states.npz`` and
+        ``margins.csv`` of the outputs up to it) as one :class:`OutputCommit`: if any file
+        cannot be written, none is put in place and :class:`~conslaw.errors.OutputError` names
+        the cause. The first output also removes what an earlier run left in the folder under
+        conslaw's names, once the new files are in place, so the folder holds either the
+        earlier run intact or this run's outputs so far, never a mixture."""
+        first = not self._files
+        t = result.states[index].t
+        if first:
             self.claim()  # before the writability probe, if the folder exists
             prepare_output_dir(self.folder)
             self.claim()
-            self._wrote(write_toml(self.folder / "scene.toml", self.scene.to_table()))
+        commit = OutputCommit()
+        kept = (dict(self._files), len(self._xdmf), len(self._pvd))
+        with signals_held():
+            try:
+                self._check_folder()
+                if first:
+                    commit.put(self.folder / "scene.toml", toml_bytes(self.scene.to_table()))
+                    self._wrote(self.folder / "scene.toml")
+                self.output(result, index, commit)
+                if history:
+                    self.history(result, commit)
+                commit.apply()
+                if first:
+                    self._remove_earlier_run()
+            except OSError as error:
+                commit.undo()
+                self._files = kept[0]
+                del self._xdmf[kept[1] :], self._pvd[kept[2] :]
+                raise OutputError(self._failure(f"the output at t={t:.6g}", error)) from None
+            self.last_time = t
+
+    def _failure(self, what: str, error: OSError) -> str:
+        reason = error.strerror or str(error)
+        name = f" ({Path(error.filename).name})" if error.filename else ""
+        return f"cannot write {what} into '{self.folder}': {reason}{name}"
+
+    def _check_folder(self) -> None:
+        """The claimed folder is still the one at the output path (not removed or replaced)."""
+        if self._claim is None:
+            return
+        held, there = os.fstat(self._claim), os.stat(self.folder)
+        if (held.st_dev, held.st_ino) != (there.st_dev, there.st_ino):
+            raise FileNotFoundError(0, "the folder was removed or replaced during the run")
+
+    def _remove_earlier_run(self) -> None:
+        """Remove files under conslaw's names that this run did not write (an earlier run's)."""
+        for entry in self.folder.iterdir():
+            if _OWN_FILE.match(entry.name) and entry not in self._files:
+                entry.unlink(missing_ok=True)
+
+    def output(self, result: RunResult, index: int, commit: OutputCommit) -> None:
+        """Stage the series files of output ``index`` (XDMF/HDF5, VTU, CSV), then their
+        indexes, in ``commit``."""
         if not {"xdmf", "vtu", "csv"} & set(self.formats):
             return
         state = result.states[index]
@@ -468,54 +588,60 @@ class RunWriter:
         if self._mesh is None:
             self._mesh = mesh_points_cells(result.grid.edges)
         points, cells = self._mesh
+        folder = self.folder
         if "xdmf" in self.formats:
             mesh_file = f"{SERIES}-mesh.h5"
             if not self._xdmf:
-                self._wrote(write_h5(self.folder / mesh_file, {"points": points, "cells": cells}))
-            self._wrote(write_h5(self.folder / f"{stem}.h5", {**fields, **data}))
+                mesh = {"points": points, "cells": cells}
+                self._wrote(commit.put(folder / mesh_file, h5_bytes(mesh)))
+            self._wrote(commit.put(folder / f"{stem}.h5", h5_bytes({**fields, **data})))
             self._xdmf.append((state.t, f"{stem}.h5", list(fields), data))
             document = xdmf_document(mesh_file, cells.shape[0], self._xdmf)
-            self._wrote(atomic_write_bytes(self.folder / f"{SERIES}.xdmf", document))
+            self._wrote(commit.put(folder / f"{SERIES}.xdmf", document))
         if "vtu" in self.formats:
-            vtu = atomic_write_bytes(
-                self.folder / f"{stem}.vtu", vtu_bytes(points, cells, fields, data)
-            )
+            vtu = commit.put(folder / f"{stem}.vtu", vtu_bytes(points, cells, fields, data))
             self._wrote(vtu)
             self._pvd.append((state.t, vtu.name))
-            pvd = pvd_document(self._pvd)
-            self._wrote(atomic_write_bytes(self.folder / f"{SERIES}.pvd", pvd))
+            self._wrote(commit.put(folder / f"{SERIES}.pvd", pvd_document(self._pvd)))
         if "csv" in self.formats:
             table = fields_csv(state.t, state.x, fields)
-            self._wrote(atomic_write_bytes(self.folder / f"{stem}.csv", table))
+            self._wrote(commit.put(folder / f"{stem}.csv", table))
 
-    def history(self, result: RunResult, final: bool = False) -> None:
-        """``states.npz`` (npz) and ``margins.csv`` (csv, front tracking) of the outputs so far.
+    def history(self, result: RunResult, commit: OutputCommit, final: bool = False) -> None:
+        """Stage ``states.npz`` (npz) and ``margins.csv`` (csv, front tracking) of the outputs
+        so far in ``commit``.
 
         ``states.npz`` holds every output so far, so it is rewritten at every output time:
         uncompressed during the run (a copy at memory speed; the cost still grows with the
         number of outputs times the grid, so for very many output times of a large grid prefer
         xdmf or vtu, whose cost per output is fixed), compressed once at the end (``final``)."""
         if "npz" in self.formats:
-            self._wrote(write_states(self.folder / "states.npz", result, compressed=final))
+            data = states_bytes(result, compressed=final)
+            self._wrote(commit.put(self.folder / "states.npz", data))
         if "csv" in self.formats and result.margins is not None:
-            self._wrote(write_margins_csv(self.folder / "margins.csv", result.margins))
+            data = margins_csv_bytes(result.margins)
+            self._wrote(commit.put(self.folder / "margins.csv", data))
 
     def finish(self, result: RunResult) -> list[Path]:
-        """The figures (with ``output.plot``), and removal of the files an earlier run into the
-        same folder left with conslaw's output names that this run did not write (a shorter
-        run, other formats; other files are not touched); returns every file written."""
+        """The compressed history and the figures (with ``output.plot``); returns every file
+        written. An OSError is an :class:`~conslaw.errors.OutputError` (the outputs of the run
+        stay complete: the compressed ``states.npz`` replaces the other only when written)."""
         if not self._files:
             self.release()
             return []
         try:
             with signals_held():
-                self.history(result, final=True)
+                commit = OutputCommit()
+                try:
+                    self.history(result, commit, final=True)
+                    commit.apply()
+                finally:
+                    commit.undo()
             if self.scene.plot and self.figures is not None:
                 for path in self.figures(result, self.folder):
                     self._wrote(path)
-            for entry in self.folder.iterdir():
-                if _OWN_FILE.match(entry.name) and entry not in self._files:
-                    entry.unlink(missing_ok=True)
+        except OSError as error:
+            raise OutputError(self._failure("the final files", error)) from None
         finally:
             self.release()
         return self.files
@@ -529,7 +655,7 @@ def write_run(result: RunResult, folder: Path, figures: FigureWriter | None = No
     try:
         writer.claim()
         for index in range(len(result.states)):
-            writer.output(result, index)
+            writer.write(result, index, history=False)
         return writer.finish(result)
     finally:
         writer.release()

@@ -433,10 +433,105 @@ def test_two_writers_in_one_process_do_not_share_a_folder(tmp_path: Path) -> Non
     result = conslaw.run("burgers-riemann", n_cells=20)
     first = RunWriter(tmp_path / "out", result.scene)
     second = RunWriter(tmp_path / "out", result.scene)
-    first.output(result, 0)
+    first(result)
     with pytest.raises(ConfigError, match="another conslaw run"):
-        second.output(result, 0)
+        second(result)
     assert second.files == []
     first.finish(result)
-    second.output(result, 0)
+    second(result)
     assert second.files and second.finish(result)
+
+
+ALL_FOUR = 'output.formats=["npz", "xdmf", "vtu", "csv"]'
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="needs RLIMIT_FSIZE")
+def test_a_full_disk_mid_run_stops_in_one_line_with_every_format_consistent(
+    tmp_path: Path,
+) -> None:
+    """A file-size limit (``RLIMIT_FSIZE``, as a full disk: writes fail with EFBIG) reached at
+    a later output time: one line naming the cause and the last complete output, exit 2, and
+    every format lists the same output times, each readable."""
+    out = tmp_path / "out"
+    times = [round(0.02 * k, 2) for k in range(1, 12)]
+    script = (
+        "import resource, sys\nimport conslaw\nfrom conslaw.cli import main\n"
+        "conslaw.run('burgers-sine', n_cells=3000)  # kernels loaded before the limit\n"
+        "resource.setrlimit(resource.RLIMIT_FSIZE, (400_000, 400_000))\n"
+        f"sys.exit(main(['run', 'burgers-sine', '--set', 'n_cells=3000', '--set', {ALL_FOUR!r},"
+        f" '--set', 'output_times={times}', '--no-plot', '--out', {str(out)!r}]))\n"
+    )
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
+    lines = done.stderr.strip().splitlines()
+    assert done.returncode == 2 and len(lines) == 1, done.stderr
+    assert "File too large" in lines[0] and "outputs up to t=" in lines[0], lines[0]
+    assert "states.npz" in lines[0] or ".h5" in lines[0] or ".vtu" in lines[0], lines[0]
+    last = float(lines[0].split("outputs up to t=")[1].split(" ")[0])
+    saved, _ = _load_everything(out)
+    assert 2 <= len(saved) < len(times) and saved[-1] == last
+    assert not list(out.glob(".*.tmp")), "a temporary file was left"
+    csv_times = sorted(
+        float(p.read_text().splitlines()[1].split(",")[0]) for p in out.glob("solution-*.csv")
+    )
+    assert csv_times == list(saved)
+
+
+def test_a_failed_run_over_an_earlier_one_leaves_no_mixture(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A run that fails mid-way in a folder holding an earlier, longer run: the folder then
+    holds the new run's outputs so far and nothing of the earlier run."""
+    from conslaw.cli import main
+
+    out = tmp_path / "out"
+    earlier = ["run", "burgers-sine", "--set", "n_cells=64", "--set", ALL_FOUR, "--no-plot"]
+    earlier += ["--set", "output_times=[0.05, 0.1, 0.15, 0.2]", "--out", str(out)]
+    assert main(earlier) == 0
+    assert (out / "solution-00004.vtu").exists()
+    advance = NessyahuTadmor.advance
+    calls = []
+
+    def failing_advance(self, state, t_end, progress=None):  # type: ignore[no-untyped-def]
+        if t_end > state.t:
+            calls.append(t_end)
+            if len(calls) == 3:
+                raise InadmissibleStateError(f"inadmissible state at t={state.t:.6g}, step 7")
+        return advance(self, state, t_end, progress)
+
+    monkeypatch.setattr(NessyahuTadmor, "advance", failing_advance)
+    later = ["run", "burgers-sine", "--set", "n_cells=32", "--set", ALL_FOUR, "--no-plot"]
+    later += ["--set", "output_times=[0.05, 0.1, 0.15, 0.2]", "--out", str(out)]
+    assert main(later) == 2
+    capsys.readouterr()
+    names = sorted(p.name for p in out.iterdir())
+    assert "solution-00003.vtu" not in names and "solution-00004.h5" not in names, names
+    times, q = _load_everything(out)
+    np.testing.assert_array_equal(times, [0.05, 0.1])
+    assert q.shape[-1] == 32
+    assert "n_cells = 32" in (out / "scene.toml").read_text()
+
+
+def test_a_failure_writing_the_first_output_leaves_an_earlier_run_intact(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A write error at the first output (a full disk): one line, exit 2, and the earlier run in
+    the folder byte for byte as it was, with no temporary file left."""
+    from test_bad_input import snapshot
+
+    from conslaw import io as output
+    from conslaw.cli import main
+
+    out = tmp_path / "out"
+    common = ["--set", ALL_FOUR, "--no-plot", "--out", str(out)]
+    assert main(["run", "burgers-sine", "--set", "n_cells=64", *common]) == 0
+    before = snapshot(out)
+
+    def full(self: output.OutputCommit) -> None:
+        raise OSError(28, "No space left on device", str(out / "solution.xdmf"))
+
+    monkeypatch.setattr(output.OutputCommit, "apply", full)
+    assert main(["run", "burgers-sine", "--set", "n_cells=32", *common]) == 2
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1 and "No space left on device (solution.xdmf)" in lines[0], lines
+    assert "the output at t=0.25" in lines[0] and str(out) in lines[0]
+    assert snapshot(out) == before
