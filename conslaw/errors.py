@@ -42,6 +42,11 @@ class OutputError(ConslawError, OSError):
     run stops, and the folder keeps every output committed before (docs/output.md)."""
 
 
+class KernelCacheError(ConslawError):
+    """The kernel cache folder cannot be used (``CONSLAW_CACHE_DIR`` not a writable folder, a
+    full disk); the message names the folder and what to do."""
+
+
 class StepLimitError(SchemeBreakdownError):
     """A run took more time steps than the scene's ``max_steps`` before reaching ``t_end``.
 

@@ -4,6 +4,7 @@ threads."""
 from __future__ import annotations
 
 import importlib
+import json
 import os
 import subprocess
 import sys
@@ -271,3 +272,75 @@ def test_a_first_compile_is_announced(monkeypatch: pytest.MonkeyPatch, tmp_path:
     monkeypatch.setattr(type(scheme), "needs_compile", lambda self: True)
     simulate(scene, notice=notices.append)
     assert len(notices) == 1 and "compiling the nessyahu-tadmor kernels for burgers" in notices[0]
+
+
+CHILD = """
+import importlib, sys
+import numpy as np
+sys.path.insert(0, {source!r})
+from conslaw.kernelgen import generate
+physics = importlib.import_module("{name}.physics")
+module = generate({template!r}, {{"_twice": physics.twice}}, {{"SCALE": 3.0}})
+print(module.apply(np.array([1.0, 2.0])).tolist(), sum(module.apply.stats.cache_hits.values()))
+"""
+
+
+def test_a_damaged_kernel_cache_is_rebuilt(package: tuple[str, Path]) -> None:
+    """Garbled numba index files, truncated data files and a generated module that is not
+    UTF-8 (a crash or a full disk while they were written): the next process rebuilds them and
+    gets the right numbers, and the process after it loads the rebuilt entries."""
+    name, folder = package
+    script = CHILD.format(
+        source=str(folder.parent), name=name, template=str(folder / "template.py")
+    )
+
+    def child() -> tuple[list[float], int]:
+        done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
+        assert done.returncode == 0 and not done.stderr, done.stderr
+        values, hits = done.stdout.rsplit(" ", 1)
+        return json.loads(values), int(hits)
+
+    assert child() == ([6.0, 12.0], 0)
+    assert child() == ([6.0, 12.0], 1)
+    cache = Path(os.environ["CONSLAW_CACHE_DIR"])
+    for index in (cache / "__pycache__").glob("*.nbi"):
+        index.write_bytes(b"\x80garbled")
+    for data in (cache / "__pycache__").glob("*.nbc"):
+        data.write_bytes(data.read_bytes()[:40])
+    assert child() == ([6.0, 12.0], 0)
+    assert child() == ([6.0, 12.0], 1)
+    (module,) = cache.glob("conslaw_kernel_*.py")
+    module.write_bytes(b"\xff\xfe not a module \x00")
+    assert child()[0] == [6.0, 12.0]
+
+
+def test_an_unusable_kernel_cache_folder_is_one_line(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``CONSLAW_CACHE_DIR`` naming a file is reported (not silently replaced by another
+    folder), and a module that cannot be written (a full disk) is one line too; exit 2."""
+    from test_bad_input import run_in_process
+
+    from conslaw.errors import KernelCacheError
+
+    not_a_folder = tmp_path / "file"
+    not_a_folder.write_text("")
+    monkeypatch.setenv("CONSLAW_CACHE_DIR", str(not_a_folder))
+    monkeypatch.setattr(codegen, "_loaded", {})
+    code, _, err = run_in_process(["run", "burgers-sine", "--no-plot", "--out", "x"], capsys)
+    lines = err.strip().splitlines()
+    assert code == 2 and len(lines) == 1, err
+    assert f"CONSLAW_CACHE_DIR='{not_a_folder}'" in lines[0], lines[0]
+    monkeypatch.setenv("CONSLAW_CACHE_DIR", str(tmp_path / "kernels"))
+
+    def full(source: object, target: object) -> None:
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(codegen.os, "replace", full)
+    with pytest.raises(KernelCacheError, match="No space left on device; free some space"):
+        nt.nt_kernels(
+            registry.models.get("burgers")(),
+            registry.reconstructors.get("mc"),
+            registry.boundaries.get("periodic").fill_left,
+            registry.boundaries.get("periodic").fill_right,
+        )

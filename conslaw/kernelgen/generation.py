@@ -29,6 +29,9 @@ from types import CodeType, ModuleType
 from typing import Any
 
 import numba
+from numba.core.caching import Cache
+
+from conslaw.errors import KernelCacheError
 
 _BEGIN = "# --- bindings ---"
 _END = "# --- end bindings ---"
@@ -38,23 +41,42 @@ _lock = threading.RLock()
 
 
 def cache_dir() -> Path:
-    """Folder of the generated kernel modules (created if needed)."""
+    """Folder of the generated kernel modules (created if needed).
+
+    ``CONSLAW_CACHE_DIR`` if set (a KernelCacheError if it cannot be used: it is never silently
+    replaced), else ``$XDG_CACHE_HOME/conslaw/kernels`` or ``~/.cache/conslaw/kernels``, else a
+    folder in the system's temporary folder.
+    """
+    chosen = os.environ.get("CONSLAW_CACHE_DIR")
+    if chosen:
+        try:
+            return _usable(Path(chosen))
+        except OSError as error:
+            raise KernelCacheError(
+                f"CONSLAW_CACHE_DIR='{chosen}' cannot hold compiled kernels: "
+                f"{error.strerror or error}; point it to a writable folder"
+            ) from None
     candidates = []
-    if os.environ.get("CONSLAW_CACHE_DIR"):
-        candidates.append(Path(os.environ["CONSLAW_CACHE_DIR"]))
     xdg = os.environ.get("XDG_CACHE_HOME")
     candidates.append((Path(xdg) if xdg else Path.home() / ".cache") / "conslaw" / "kernels")
     candidates.append(Path(tempfile.gettempdir()) / f"conslaw-kernels-{os.getuid()}")
     for folder in candidates:
         try:
-            folder.mkdir(parents=True, exist_ok=True)
-            probe = folder / f".probe-{os.getpid()}"
-            probe.write_text("")
-            probe.unlink()
-            return folder
+            return _usable(folder)
         except OSError:
             continue
-    raise OSError("no writable folder for conslaw's compiled kernels; set CONSLAW_CACHE_DIR")
+    raise KernelCacheError(
+        "no writable folder for conslaw's compiled kernels; set CONSLAW_CACHE_DIR"
+    )
+
+
+def _usable(folder: Path) -> Path:
+    """``folder``, made if needed, once a file could be written into it (else an OSError)."""
+    folder.mkdir(parents=True, exist_ok=True)
+    probe = folder / f".probe-{os.getpid()}-{threading.get_ident()}"
+    probe.write_text("")
+    probe.unlink()
+    return folder
 
 
 def compiled_before(module: ModuleType, function: str) -> bool:
@@ -110,17 +132,12 @@ def _names_used(code: CodeType) -> set[str]:
     return names
 
 
-def dependency_sources(roots: Mapping[str, Any]) -> list[str]:
-    """What the compiled code reachable from ``roots`` depends on: the text of every source file
-    that defines a compiled function it can call (following the globals each function uses, and
-    the attributes of modules it uses), and the value of every plain constant it reads.
+_PLAIN = (bool, int, float, complex, str, bytes, tuple, type(None))
 
-    numba freezes a global constant into the compiled code and checks only the calling file's
-    time stamp before it loads cached code, so these are what a kernel's cache key must cover;
-    the folder around a bound module is not (appending to ``conslaw/cli.py`` recompiles nothing).
-    """
-    files: set[str] = set()
-    constants: list[str] = []
+
+def _reachable(roots: Mapping[str, Any]) -> Iterator[tuple[str, Any]]:
+    """Every value the compiled code of ``roots`` can reach, with a label: the roots, and for
+    each compiled function the globals it uses and the attributes of the modules it uses."""
     seen: set[int] = set()
     pending: list[tuple[str, Any]] = list(roots.items())
     while pending:
@@ -128,15 +145,9 @@ def dependency_sources(roots: Mapping[str, Any]) -> list[str]:
         if id(value) in seen:
             continue
         seen.add(id(value))
-        if isinstance(value, (bool, int, float, complex, str, bytes, tuple, type(None))):
-            constants.append(f"{label}={value!r}")
-            continue
-        file = _defining_file(value)
-        if file is None:
-            continue
-        files.add(file)
+        yield label, value
         function = getattr(value, "py_func", None)
-        if function is None:
+        if isinstance(value, _PLAIN) or _defining_file(value) is None or function is None:
             continue
         namespace = function.__globals__
         used = _names_used(function.__code__)
@@ -150,6 +161,26 @@ def dependency_sources(roots: Mapping[str, Any]) -> list[str]:
                 )
             else:
                 pending.append((f"{function.__module__}.{name}", target))
+
+
+def dependency_sources(roots: Mapping[str, Any]) -> list[str]:
+    """What the compiled code reachable from ``roots`` depends on: the text of every source file
+    that defines a compiled function it can call (following the globals each function uses, and
+    the attributes of modules it uses), and the value of every plain constant it reads.
+
+    numba freezes a global constant into the compiled code and checks only the calling file's
+    time stamp before it loads cached code, so these are what a kernel's cache key must cover;
+    the folder around a bound module is not (appending to ``conslaw/cli.py`` recompiles nothing).
+    """
+    files: set[str] = set()
+    constants: list[str] = []
+    for label, value in _reachable(roots):
+        if isinstance(value, _PLAIN):
+            constants.append(f"{label}={value!r}")
+            continue
+        file = _defining_file(value)
+        if file is not None:
+            files.add(file)
     texts = []
     for file in sorted(files):
         try:
@@ -287,12 +318,25 @@ def _folder_lock(folder: Path) -> Iterator[None]:
 
 
 def _write_and_import(folder: Path, family: str, module_name: str, body: str) -> ModuleType:
-    """Write the module (if not there), prune the stale modules of its family and import it."""
+    """Write the module (if not there or not the same bytes: a damaged copy is rewritten), prune
+    the stale modules of its family and import it; numba's cache of it repairs itself
+    (:class:`_RepairingCache`)."""
     target = folder / f"{module_name}.py"
-    if not target.exists() or target.read_text() != body:
+    try:
+        present = target.read_bytes() if target.exists() else None
+    except OSError:
+        present = None
+    if present != body.encode():
         temporary = target.with_suffix(f".{os.getpid()}.{threading.get_ident()}.tmp")
-        temporary.write_text(body)
-        os.replace(temporary, target)
+        try:
+            temporary.write_text(body)
+            os.replace(temporary, target)
+        except OSError as error:
+            temporary.unlink(missing_ok=True)
+            raise KernelCacheError(
+                f"cannot write compiled kernels into '{folder}': {error.strerror or error}; "
+                "free some space or set CONSLAW_CACHE_DIR to another folder"
+            ) from None
         _prune(folder, family, keep=module_name)
     spec = importlib.util.spec_from_file_location(module_name, target)
     assert spec is not None and spec.loader is not None
@@ -305,5 +349,42 @@ def _write_and_import(folder: Path, family: str, module_name: str, body: str) ->
         del sys.modules[module_name]
         raise
     setattr(module, "__kernel_family__", family)  # noqa: B010 (an attribute of our own)
+    for _, value in _reachable(vars(module)):
+        cache = getattr(value, "_cache", None)
+        if isinstance(cache, Cache):
+            value._cache = _RepairingCache(cache)
     _loaded[module_name] = module
     return module
+
+
+class _RepairingCache:
+    """numba's on-disk cache of one compiled function, made robust to damaged files: an entry
+    that cannot be loaded (a truncated or garbled index or data file) is deleted and the function
+    compiled again, which writes a good entry; a failure to save (a full disk) leaves the
+    function compiled in memory only. Everything else is numba's ``Cache``."""
+
+    def __init__(self, cache: Cache) -> None:
+        self._cache = cache
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._cache, name)
+
+    def load_overload(self, sig: Any, target_context: Any) -> Any:
+        try:
+            return self._cache.load_overload(sig, target_context)
+        except Exception:  # whatever a damaged file raises: pickle, EOF, ...
+            self._remove_files()
+            return None
+
+    def save_overload(self, sig: Any, data: Any) -> None:
+        try:
+            self._cache.save_overload(sig, data)
+        except Exception:  # a full disk, or a damaged index met again
+            self._remove_files()
+
+    def _remove_files(self) -> None:
+        """Delete this function's index and data files."""
+        index = Path(self._cache._cache_file._index_path)
+        index.unlink(missing_ok=True)
+        for data in index.parent.glob(f"{index.stem}.*.nbc"):
+            data.unlink(missing_ok=True)
