@@ -1,5 +1,9 @@
 """Plots of runs and studies: profiles against the exact solution, the x–t diagram, margin
-trajectories, the chute in elevation with the flowing mass, work-precision plots."""
+trajectories, the chute in elevation with the flowing mass, work-precision plots.
+
+Figures are :class:`matplotlib.figure.Figure` objects made without pyplot: importing this module
+leaves the matplotlib backend alone (a notebook's inline backend keeps working), and the figures
+are written as PNG through the Agg renderer whatever the backend."""
 
 from __future__ import annotations
 
@@ -7,10 +11,8 @@ from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING, Any
 
 import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.figure import Figure
 
 from conslaw.io import write_figure
 
@@ -61,9 +63,10 @@ def profiles_figure(result: RunResult, times: Sequence[float] | None = None) -> 
     and 5). ``times`` selects the output times drawn (see :func:`select_states`)."""
     model = result.model
     rows = len(_display_rows(model, result.states[0].q))
-    figure, axes = plt.subplots(rows, 1, figsize=(8, 3.2 * rows), sharex=True, squeeze=False)
+    figure = Figure(figsize=(8, 3.2 * rows))
+    axes = figure.subplots(rows, 1, sharex=True, squeeze=False)
     shown = select_states(result, times)
-    colours = plt.cm.viridis(np.linspace(0.0, 0.85, len(shown)))
+    colours = matplotlib.colormaps["viridis"](np.linspace(0.0, 0.85, len(shown)))
     fine = np.linspace(result.grid.x_min, result.grid.x_max, 4001)
     # Open circles as in the paper where the cells can be told apart, dots on fine grids.
     coarse = result.grid.n_cells <= COARSE_GRID
@@ -114,7 +117,8 @@ def chute_figure(
     angle = chute.zeta(x)
     shown = select_states(result, times)
     count = len(shown)
-    figure, axes = plt.subplots(count, 1, figsize=(9, 1.6 * count), sharex=True, squeeze=False)
+    figure = Figure(figsize=(9, 1.6 * count))
+    axes = figure.subplots(count, 1, sharex=True, squeeze=False)
     for axis, state in zip(axes[:, 0], shown, strict=True):
         h = exaggeration * state.q[model.depth_index]
         top_x = horizontal - h * np.sin(angle)
@@ -147,7 +151,8 @@ def _study_lines(study: Any) -> dict[str, list[Any]]:
 def error_against_time_figure(study: Any) -> Any:
     """Work-precision plot: L1 error against the median solve time, one line per
     (scheme, reconstructor), each point labelled with its N (log-log)."""
-    figure, axis = plt.subplots(figsize=(7, 5))
+    figure = Figure(figsize=(7, 5))
+    axis = figure.subplots()
     for label, rows in _study_lines(study).items():
         times = [r.solve_median for r in rows]
         errors = [r.l1 for r in rows]
@@ -171,7 +176,8 @@ def error_against_time_figure(study: Any) -> Any:
 
 def error_against_cells_figure(study: Any) -> Any:
     """L1 error against N (log-log) with reference slopes 1 and 2."""
-    figure, axis = plt.subplots(figsize=(7, 5))
+    figure = Figure(figsize=(7, 5))
+    axis = figure.subplots()
     all_rows = study.rows
     for label, rows in _study_lines(study).items():
         axis.loglog([r.n_cells for r in rows], [r.l1 for r in rows], "o-", label=label)
@@ -193,7 +199,8 @@ def margins_figure(result: RunResult) -> Any:
     where the exact solution provides them."""
     margins = result.margins
     assert margins is not None
-    figure, (position_axis, velocity_axis) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+    figure = Figure(figsize=(8, 6))
+    position_axis, velocity_axis = figure.subplots(2, 1, sharex=True)
     exact_margins = getattr(result.exact_solution, "margins", None)
     for column, name, colour in ((1, "rear", "tab:blue"), (3, "front", "tab:red")):
         if np.all(np.isnan(margins[:, column])):
@@ -231,7 +238,8 @@ def xt_figure(result: RunResult) -> Any:
     t_edges = np.concatenate(
         [[t[0] - (middles[0] - t[0])], middles, [t[-1] + (t[-1] - middles[-1])]]
     )
-    figure, axis = plt.subplots(figsize=(8, 5.5))
+    figure = Figure(figsize=(8, 5.5))
+    axis = figure.subplots()
     mesh = axis.pcolormesh(result.grid.edges, t_edges, values, cmap="viridis", shading="flat")
     figure.colorbar(mesh, ax=axis, label=model.variables[row])
     if result.margins is not None:
@@ -272,5 +280,4 @@ def draw_figures(result: RunResult, folder: Path) -> list[Path]:
     for name, build in figures_for(result):
         figure = build(result)
         written.append(write_figure(folder / name, figure))
-        plt.close(figure)
     return written

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import os
 import pickle
+import subprocess
 import sys
 import tempfile
 import time
@@ -151,3 +152,21 @@ def test_a_model_pickles_without_its_compiled_kernels(run) -> None:
     copy = pickle.loads(pickle.dumps(model))
     assert copy._arrays is None and copy.params == model.params
     np.testing.assert_array_equal(copy.flux(q, aux), expected)
+
+
+def test_the_library_leaves_the_matplotlib_backend_alone(tmp_path: Path) -> None:
+    """Importing conslaw and drawing a run's figures keeps the backend a user (or a notebook)
+    chose, and the figures are still PNG files."""
+    script = (
+        "import pathlib, matplotlib\nmatplotlib.use('svg')\n"
+        "import conslaw, conslaw.plotting\n"
+        "result = conslaw.run('burgers-sine', n_cells=32)\n"
+        f"paths = conslaw.plotting.draw_figures(result, pathlib.Path({str(tmp_path)!r}))\n"
+        "print(matplotlib.get_backend(), len(paths))\n"
+    )
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    backend, count = done.stdout.split()
+    assert backend == "svg" and int(count) >= 1
+    for png in tmp_path.glob("*.png"):
+        assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
