@@ -301,6 +301,9 @@ def _command_compare(args: argparse.Namespace) -> int:
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser (exposed for the documentation)."""
     parser = _Parser(prog="conslaw", description="Hyperbolic conservation laws in 1D.")
+    from conslaw import __version__
+
+    parser.add_argument("--version", action="version", version=f"conslaw {__version__}")
     commands = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     commands.add_parser("list", help="print every registered name with a one-line description")
     for name, text in (("run", "run a scene"), ("show", "print a scene with defaults filled in")):

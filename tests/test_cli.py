@@ -100,3 +100,10 @@ def test_show_prints_the_resolved_scene() -> None:
     assert process.returncode == 0, process.stderr
     resolved = tomllib.loads(process.stdout)
     assert resolved["n_cells"] == 123 and resolved["cfl"] == 0.45
+
+
+def test_version() -> None:
+    import conslaw
+
+    process = cli("--version")
+    assert process.returncode == 0 and process.stdout.strip() == f"conslaw {conslaw.__version__}"
