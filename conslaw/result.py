@@ -22,7 +22,7 @@ if TYPE_CHECKING:
 Array = NDArray[np.float64]
 
 
-@dataclass
+@dataclass(repr=False)
 class RunResult:
     """Everything a run produced.
 
@@ -66,6 +66,17 @@ class RunResult:
     margins: Array | None = None
     files: list[Path] = field(default_factory=list)
     coefficients: list[Array] = field(default_factory=list)
+
+    def __repr__(self) -> str:
+        """One line: the scene, where the run got to and its headline error (the arrays are
+        in :attr:`states`; the whole record would fill a screen)."""
+        error = self.headline_error()
+        shown = "no exact solution" if error is None else f"L1 error {error:.4g}"
+        return (
+            f"<RunResult {self.scene.name}: {self.scene.model}, {self.scene.scheme}, "
+            f"N={self.grid.n_cells}, {len(self.states)} outputs to t={self.final.t:g}, "
+            f"{self.steps} steps, {shown}>"
+        )
 
     @property
     def final(self) -> State:

@@ -107,3 +107,12 @@ def test_version() -> None:
 
     process = cli("--version")
     assert process.returncode == 0 and process.stdout.strip() == f"conslaw {conslaw.__version__}"
+
+
+def test_a_result_prints_in_one_short_line() -> None:
+    import conslaw
+
+    result = conslaw.run("burgers-riemann", n_cells=40)
+    text = repr(result)
+    assert "\n" not in text and len(text) < 200, text
+    assert text.startswith("<RunResult burgers-riemann: burgers, nessyahu-tadmor, N=40")
