@@ -69,7 +69,8 @@ KEY_HELP: dict[str, str] = {
     "max_steps": "stop the run with an error once it has taken more time steps than this "
     "before t_end (integer >= 1; checked at every progress report: nessyahu-tadmor every "
     "4e6/n_cells steps, front tracking every 1e6/n_cells, lagrangian every 200, and at every "
-    "output time)",
+    "output time), or earlier, once 1e4 steps show that the run would need more than ten "
+    "times this many",
     "boundary": "table: left, right = a boundary name or { kind = ..., options }",
     "initial": "table: kind (piecewise-constant, sine) and its options",
     "output": (

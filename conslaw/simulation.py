@@ -118,10 +118,13 @@ def simulate(
     last_output: float | None = None
 
     def report(t: float, n: int) -> None:
-        reached[:] = [t, result.steps + n]
+        steps = result.steps + n
+        reached[:] = [t, steps]
         # Not at the output time itself: that state is recorded first (checked after it).
-        if result.steps + n > scene.max_steps and t < target[0]:
-            raise StepLimitError(step_limit_message(scene, initial.t, t, result.steps + n))
+        if steps > scene.max_steps and t < target[0]:
+            raise StepLimitError(step_limit_message(scene, initial.t, t, steps))
+        if cannot_finish(scene, initial.t, t, steps) and t < target[0]:
+            raise StepLimitError(step_limit_message(scene, initial.t, t, steps, early=True))
         if progress is not None:
             progress(t, result.steps + n)
 
@@ -169,9 +172,30 @@ def simulate(
     return result
 
 
-def step_limit_message(scene: Scene, t_start: float, t: float, steps: int) -> str:
+#: A run stops early once, after this many steps, its step rate says that it would need more than
+#: ``HOPELESS_FACTOR`` times ``max_steps`` to reach ``t_end`` (the rate changes along a run, so
+#: only a clear excess counts).
+HOPELESS_AFTER_STEPS = 10_000
+HOPELESS_FACTOR = 10.0
+
+
+def cannot_finish(scene: Scene, t_start: float, t: float, steps: int) -> bool:
+    """Whether a run at ``t`` after ``steps`` steps would need, at its mean rate so far, more
+    than ``HOPELESS_FACTOR * max_steps`` steps to reach ``t_end`` (a domain far too small for
+    its waves, say): it is stopped then, not when it finally reaches ``max_steps``."""
+    if steps < HOPELESS_AFTER_STEPS:
+        return False
+    elapsed = t - t_start
+    needed = steps * (scene.t_end - t_start) / elapsed if elapsed > 0 else np.inf
+    return bool(needed > HOPELESS_FACTOR * scene.max_steps)
+
+
+def step_limit_message(
+    scene: Scene, t_start: float, t: float, steps: int, early: bool = False
+) -> str:
     """The one line a run stopped by ``max_steps`` reports: where it stopped, its mean time step
-    and how many steps the whole run would need at that rate."""
+    and how many steps the whole run would need at that rate (``early``: stopped before the
+    limit, as :func:`cannot_finish`)."""
     elapsed = t - t_start
     mean_dt = elapsed / steps if steps else 0.0
     if elapsed > 0:
@@ -179,8 +203,13 @@ def step_limit_message(scene: Scene, t_start: float, t: float, steps: int) -> st
         need_text = f"about {need:.0f}" if need < 1e6 else f"about {need:.2g}"
     else:
         need_text = "unboundedly many"
+    why = (
+        f"more than {HOPELESS_FACTOR:g} times scene key 'max_steps' = {scene.max_steps}"
+        if early
+        else f"scene key 'max_steps' = {scene.max_steps} reached"
+    )
     return (
-        f"scene key 'max_steps' = {scene.max_steps} reached: the run stopped at t={t:.6g} of "
+        f"{why}: the run stopped at t={t:.6g} of "
         f"t_end={scene.t_end:g} after {steps} steps (mean time step {mean_dt:.3g}); at this "
         f"rate it needs {need_text} steps. Raise max_steps, or look for a fast wave in the "
         f"data (with a depth: a thin layer with a large momentum moves at momentum / depth)"

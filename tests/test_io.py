@@ -309,14 +309,17 @@ FILM_SPEED = 0.514 / 5.96e-8 + np.sqrt(5.96e-8)
 
 
 @pytest.mark.parametrize(
-    ("max_steps", "reached"),
+    ("max_steps", "reached", "t_end"),
     [
-        (300_000, 0.00031),  # stops between two progress reports, after the output at 1e-5
-        (5_000, 1e-5),  # over the limit when it reaches the output at 1e-5: written, then stop
+        # stops between two progress reports, after the output at 1e-5 (t_end 2e-3 needs about
+        # 2e6 steps, not more than ten times the limit: the run is not stopped earlier)
+        (300_000, 0.00031, 2e-3),
+        # over the limit when it reaches the output at 1e-5: written, then stop
+        (5_000, 1e-5, 0.5),
     ],
 )
 def test_a_run_past_max_steps_stops_with_one_line_and_keeps_its_outputs(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str], max_steps: int, reached: float
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], max_steps: int, reached: float, t_end: float
 ) -> None:
     """``max_steps`` turns a run that would take hours (an honest CFL step of 1e-9) into one
     error line naming the key, the time reached and the mean step (that of the fastest wave);
@@ -324,7 +327,8 @@ def test_a_run_past_max_steps_stops_with_one_line_and_keeps_its_outputs(
     from conslaw.cli import main
 
     out = tmp_path / "out"
-    assert main([*FAST_FILM, "--set", f"max_steps={max_steps}", "--out", str(out)]) == 2
+    limit = ["--set", f"max_steps={max_steps}", "--set", f"t_end={t_end}"]
+    assert main([*FAST_FILM, *limit, "--out", str(out)]) == 2
     error = capsys.readouterr().err.strip().splitlines()
     assert len(error) == 1 and f"scene key 'max_steps' = {max_steps} reached" in error[0], error
     assert f"outputs up to t=1e-05 are complete in {out}" in error[0]
@@ -335,6 +339,26 @@ def test_a_run_past_max_steps_stops_with_one_line_and_keeps_its_outputs(
     with np.load(out / "states.npz") as saved:
         np.testing.assert_array_equal(saved["t"], [1e-5])
         np.testing.assert_allclose(saved["q"][0], [[5.96e-8] * 13, [-0.514] * 13], rtol=1e-14)
+
+
+def test_a_run_that_cannot_finish_stops_early(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The fast film needs about 5e8 steps; with max_steps = 1e6 the run stops as soon as its
+    step rate shows that (a progress report after 1e4 steps), not after 1e6 steps, with one
+    line giving the estimate."""
+    from conslaw.cli import main
+
+    out = tmp_path / "out"
+    assert main([*FAST_FILM, "--set", "max_steps=1000000", "--out", str(out)]) == 2
+    error = capsys.readouterr().err.strip().splitlines()
+    assert len(error) == 1, error
+    assert "more than 10 times scene key 'max_steps' = 1000000" in error[0], error[0]
+    assert "needs about 5" in error[0] and "e+08 steps" in error[0], error[0]
+    stopped = float(error[0].split("stopped at t=")[1].split(" ")[0])
+    steps = int(error[0].split(" after ")[1].split(" steps")[0])
+    # At the first progress report past 1e4 steps (13 cells: the kernel reports every ~3e5).
+    assert 10_000 <= steps < 1_000_000 and stopped < 1e-3
 
 
 def test_max_steps_stops_a_run_only_before_t_end_and_after_recording_an_output_time() -> None:
