@@ -164,12 +164,34 @@ class Scene:
         }
 
 
+#: Deepest nesting of arrays and tables a scene (or a ``--set`` value) may have.
+MAX_NESTING = 50
+
+
 def parse_value(text: str) -> Any:
     """A ``--set`` value: a TOML value (number, bool, list, string in quotes) or a bare string."""
+    if "\n" in text or "\r" in text:
+        raise ConfigError(f"--set value {text[:40]!r}...: a value is one line")
+    _check_nesting(text, "a --set value")
     try:
         return tomllib.loads(f"value = {text}")["value"]
     except tomllib.TOMLDecodeError:
         return text
+
+
+def _check_nesting(text: str, what: str) -> None:
+    """A ConfigError if the brackets of ``text`` nest deeper than ``MAX_NESTING`` (the TOML
+    parser would recurse until Python's limit). Brackets inside strings count too: a bound, not
+    a parse."""
+    depth = deepest = 0
+    for character in text:
+        if character in "[{":
+            depth += 1
+            deepest = max(deepest, depth)
+        elif character in "]}":
+            depth = max(depth - 1, 0)
+    if deepest > MAX_NESTING:
+        raise ConfigError(f"{what} nests arrays or tables {deepest} deep; at most {MAX_NESTING}")
 
 
 def scene_path(name_or_path: str | Path) -> tuple[str, Path]:
@@ -196,8 +218,10 @@ def read_scene_file(path: Path) -> dict[str, Any]:
         data = path.read_bytes()
     except OSError as error:
         raise ConfigError(f"cannot read scene file '{path}': {error.strerror}") from None
+    text = scene_text(data, f"scene file '{path}'")
+    _check_nesting(text, f"scene file '{path}'")
     try:
-        return tomllib.loads(scene_text(data, f"scene file '{path}'"))
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:
         raise ConfigError(f"scene file '{path}' is not valid TOML: {error}") from None
 
@@ -306,7 +330,12 @@ def _resolve_files(parameters: Mapping[str, Any], folder: Path | None) -> dict[s
     for key, value in parameters.items():
         if not key.endswith("_file") or not isinstance(value, str) or not value:
             continue
-        path = Path(value).expanduser()
+        try:
+            path = Path(value).expanduser()
+        except RuntimeError:  # ~user of an unknown user
+            raise ConfigError(
+                f"parameters.{key}: cannot expand '{value}' (no such user's home folder)"
+            ) from None
         if not path.is_absolute() and folder is not None and (folder / path).exists():
             resolved[key] = str((folder / path).resolve())
     return resolved

@@ -38,6 +38,7 @@ Every run also writes ``scene.toml`` (the resolved scene) with its first output,
 
 from __future__ import annotations
 
+import errno
 import io
 import os
 import re
@@ -162,6 +163,13 @@ def check_output_dir(folder: Path) -> Path:
     created (its nearest existing ancestor is a writable folder)."""
     folder = Path(folder)
     probe = folder
+    try:
+        os.stat(folder)
+    except OSError as error:
+        if error.errno not in (errno.ENOENT, errno.ENOTDIR):  # too long a name, a loop, ...
+            raise ConfigError(
+                f"output directory '{folder}' cannot be used: {error.strerror}"
+            ) from None
     while not probe.exists():
         if probe.parent == probe:
             break

@@ -110,6 +110,9 @@ class TableChute(Chute):
         if not isinstance(path, str | Path) or not str(path):
             raise ConfigError(f"parameters.chute_file: expected a file name, got {path!r}")
         path = Path(path)
+        if path.exists() and not path.is_file():
+            # A folder, or a device such as /dev/zero that would be read forever.
+            raise ConfigError(f"parameters.chute_file: '{path}' is not a regular file")
         try:
             data = np.genfromtxt(path, delimiter=",", names=True, dtype=float)
         except (OSError, ValueError) as error:

@@ -70,6 +70,43 @@ def bad(
 
 #: (id, arguments, fragments the error line must contain, files to create first)
 CASES: list[BadInput] = [
+    # ---- nesting, odd paths and values (each was a traceback or a hang)
+    bad(
+        "scene-file-nested-too-deep",
+        ["run", "bad.toml"],
+        ["bad.toml", "nests arrays or tables 3000 deep"],
+        scene_file(SCENE + "deep = " + "[" * 3000 + "]" * 3000 + "\n"),
+    ),
+    bad(
+        "set-value-nested-too-deep",
+        [*RIEMANN, "x_max=" + "[" * 3000 + "]" * 3000],
+        ["--set value", "3000 deep"],
+        {},
+    ),
+    bad(
+        "set-value-with-a-newline",
+        [*RIEMANN, "t_end=1.0\nmodel = 'burgers'"],
+        ["--set value", "one line"],
+        {},
+    ),
+    bad(
+        "chute-file-of-an-unknown-user",
+        [*SH, "parameters.chute=table", "--set", 'parameters.chute_file="~nosuchuser/c.csv"'],
+        ["parameters.chute_file", "~nosuchuser/c.csv", "no such user"],
+        {},
+    ),
+    bad(
+        "chute-file-a-device",
+        [*SH, "parameters.chute=table", "--set", 'parameters.chute_file="/dev/zero"'],
+        ["parameters.chute_file", "/dev/zero", "not a regular file"],
+        {},
+    ),
+    bad(
+        "out-name-too-long",
+        ["run", "burgers-riemann", "--out", "x" * 300],
+        ["output directory", "File name too long"],
+        {},
+    ),
     # ---- scene files in another encoding than UTF-8, or not text at all
     bad(
         "scene-file-utf16",
