@@ -375,6 +375,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         sys.stderr.write("conslaw: interrupted\n")
         return 130
+    except MemoryError:
+        # The run's estimate (conslaw.memory) let it start; the machine still ran out.
+        sys.stderr.write(
+            "conslaw: error: out of memory; use fewer cells or output times (outputs already "
+            "written are complete)\n"
+        )
+        return EXIT_INPUT
     except BrokenPipeError:
         # The reader went away (`conslaw list | head`): stop quietly, as other tools do.
         import os

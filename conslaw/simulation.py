@@ -17,6 +17,7 @@ from conslaw.config import Scene, load_scene
 from conslaw.errors import ConfigError, RunInterrupted, SchemeBreakdownError, StepLimitError
 from conslaw.exact import ExactSolution, Unavailable
 from conslaw.grid import Grid
+from conslaw.memory import available_bytes, run_bytes
 from conslaw.model import Model
 from conslaw.result import RunResult
 from conslaw.schemes.base import BoundarySpec, ProgressCallback, Scheme
@@ -36,6 +37,7 @@ def _build(
 ) -> tuple[Model, Grid, Scheme, State, ExactSolution | None, str | None]:
     model_class = registry.models.get(scene.model)
     model = model_class(**scene.parameters)
+    check_memory(scene, model)
     grid = Grid(scene.x_min, scene.x_max, scene.n_cells)
     left = BoundarySpec(registry.boundaries.get(scene.left.kind), scene.left.options)
     right = BoundarySpec(registry.boundaries.get(scene.right.kind), scene.right.options)
@@ -60,6 +62,20 @@ def _build(
     initial = scheme.initial_state(State(0.0, grid.centres(), q0, 0.0), scene.initial)
     exact, note = exact_solution_for(scene, model, grid)
     return model, grid, scheme, initial, exact, note
+
+
+def check_memory(scene: Scene, model: Model) -> None:
+    """A ConfigError, before anything is allocated, if the run needs more memory than this
+    process may still use (:mod:`conslaw.memory`; nothing is checked where that is unknown)."""
+    needed = run_bytes(scene.n_cells, model.n_vars, model.n_aux, len(scene.output_times) + 1)
+    room = available_bytes()
+    if room is not None and needed > room:
+        gib = 2.0**30
+        raise ConfigError(
+            f"n_cells = {scene.n_cells} with {len(scene.output_times)} output times needs about "
+            f"{needed / gib:.1f} GiB, and this process may use about {max(room, 0) / gib:.1f} "
+            "GiB more; use fewer cells or output times"
+        )
 
 
 def exact_solution_for(

@@ -12,6 +12,7 @@ command. Python API cases raise :class:`ConfigError` with a one-line message and
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -566,3 +567,23 @@ def test_a_scene_file_with_a_utf8_byte_order_mark_loads(tmp_path: Path) -> None:
     path.write_bytes(SCENE.encode("utf-8-sig"))
     scene = load_scene(path)
     assert scene.model == "burgers" and scene.n_cells == 16
+
+
+@pytest.mark.skipif(sys.platform != "linux", reason="reads the limits of a Linux process")
+def test_a_run_too_large_for_the_memory_limit_is_one_line(tmp_path: Path) -> None:
+    """Under a 3 GiB address-space limit, 5e7 cells (the largest n_cells a scene may ask for)
+    is refused before anything is allocated: one line with the estimate, exit 2, no folder."""
+    import resource
+    import subprocess
+
+    def limit() -> None:
+        resource.setrlimit(resource.RLIMIT_AS, (3 * 2**30, 3 * 2**30))
+
+    out = tmp_path / "big"
+    command = [sys.executable, "-m", "conslaw.cli", "run", "burgers-riemann", "--set"]
+    command += ["n_cells=50000000", "--no-plot", "--out", str(out)]
+    done = subprocess.run(command, capture_output=True, text=True, preexec_fn=limit, cwd=tmp_path)
+    lines = done.stderr.strip().splitlines()
+    assert done.returncode == 2 and len(lines) == 1, done.stderr
+    assert "n_cells = 50000000" in lines[0] and "GiB" in lines[0], lines[0]
+    assert not out.exists()
