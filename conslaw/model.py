@@ -169,6 +169,10 @@ class Model(ABC):
         """Number of static per-point coefficients."""
         return len(self.aux_names)
 
+    def check_domain(self, x_min: float, x_max: float) -> None:
+        """Raise ConfigError if the model's own data (a terrain table, say) do not cover the
+        domain ``[x_min, x_max]``. The default has nothing to check."""
+
     def param_vector(self) -> Array:
         """The parameters packed as float64, in the field order of :attr:`Parameters`."""
         values = [float(getattr(self.params, f.name)) for f in dataclasses.fields(self.Parameters)]

@@ -37,6 +37,7 @@ def _build(
 ) -> tuple[Model, Grid, Scheme, State, ExactSolution | None, str | None]:
     model_class = registry.models.get(scene.model)
     model = model_class(**scene.parameters)
+    model.check_domain(scene.x_min, scene.x_max)
     check_memory(scene, model)
     grid = Grid(scene.x_min, scene.x_max, scene.n_cells)
     left = BoundarySpec(registry.boundaries.get(scene.left.kind), scene.left.options)

@@ -43,6 +43,11 @@ class Chute:
         """``lambda kappa = -d zeta / dx`` at arc length x."""
         raise NotImplementedError
 
+    def uncovered(self, x_min: float, x_max: float) -> str | None:
+        """What of ``[x_min, x_max]`` the chute's own data do not cover (None: all of it; a
+        chute given by a formula covers every x)."""
+        return None
+
     def elevation_profile(self, x: Array) -> tuple[Array, Array]:
         """Horizontal position and elevation of the bed at arc lengths x (for drawing), from
         ``dX/dx = cos zeta``, ``dZ/dx = -sin zeta`` integrated from ``x[0]`` (trapezoid rule on a
@@ -158,6 +163,18 @@ class TableChute(Chute):
     def zeta(self, x: Array) -> Array:
         x = np.clip(np.asarray(x, dtype=np.float64), self._s[0], self._s[-1])
         return np.asarray(self._angle(x))
+
+    def uncovered(self, x_min: float, x_max: float) -> str | None:
+        """The domain's part beyond the table's arc lengths ``[s_0, s_end]``, where the chute
+        would continue as a plane at the angle of the table's nearer end."""
+        first, last = float(self._s[0]), float(self._s[-1])
+        slack = 1e-9 * max(abs(first), abs(last), last - first)
+        if x_min >= first - slack and x_max <= last + slack:
+            return None
+        return (
+            f"the chute table covers arc lengths x in [{first:.6g}, {last:.6g}], the domain is "
+            f"[{x_min:.6g}, {x_max:.6g}]"
+        )
 
     def curvature(self, x: Array) -> Array:
         x = np.asarray(x, dtype=np.float64)

@@ -166,6 +166,7 @@ class SavageHutterParameters:
     transition_end: float = 25.5
     zeta_end: float = 0.0
     chute_file: str = ""
+    chute_extend: bool = False
     dry_tolerance: float = 1e-10
 
     def __post_init__(self) -> None:
@@ -194,6 +195,10 @@ class SavageHutterParameters:
         if not isinstance(self.chute_file, str):
             raise ConfigError(
                 f"parameters.chute_file: expected a file name, got {self.chute_file!r}"
+            )
+        if not isinstance(self.chute_extend, bool):
+            raise ConfigError(
+                f"parameters.chute_extend: expected true or false, got {self.chute_extend!r}"
             )
         if not 0 <= self.dry_tolerance < 1e-3:
             raise ConfigError(
@@ -243,6 +248,18 @@ class SavageHutter(DepthAveragedModel):
         else:
             self.k_active, self.k_passive = earth_pressure_coefficients(
                 math.radians(p.phi), math.radians(p.delta)
+            )
+
+    def check_domain(self, x_min: float, x_max: float) -> None:
+        """A chute table must cover the domain, unless ``chute_extend`` says to continue it as
+        planes at the angles of its ends (a domain in other coordinates than the table's would
+        otherwise run down an endless plane unnoticed)."""
+        problem = self.chute.uncovered(x_min, x_max)
+        if problem is not None and not self.params.chute_extend:
+            raise ConfigError(
+                f"parameters.chute_file: {problem}; move x_min/x_max inside the table, extend "
+                "the table, or set parameters.chute_extend = true to continue the chute as "
+                "planes at the angles of its ends"
             )
 
     def param_vector(self) -> Array:
