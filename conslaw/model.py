@@ -172,6 +172,7 @@ class Model(ABC):
     def check_domain(self, x_min: float, x_max: float) -> None:
         """Raise ConfigError if the model's own data (a terrain table, say) do not cover the
         domain ``[x_min, x_max]``. The default has nothing to check."""
+        return None
 
     def param_vector(self) -> Array:
         """The parameters packed as float64, in the field order of :attr:`Parameters`."""
