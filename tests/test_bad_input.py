@@ -98,10 +98,7 @@ CASES: list[BadInput] = [
     ),
     bad(
         "chute-table-in-other-coordinates",
-        (
-            [*table_chute("x,zeta\n1000,40\n1020,35\n1040,30\n1060,20\n1080,10\n")[0]],
-            {"chute.csv": "x,zeta\n1000,40\n1020,35\n1040,30\n1060,20\n1080,10\n"},
-        ),
+        table_chute("x,zeta\n1000,40\n1020,35\n1040,30\n1060,20\n1080,10\n"),
         ["parameters.chute_file", "covers arc lengths x in [1000, 1080]", "chute_extend"],
     ),
     bad(
