@@ -83,6 +83,9 @@ class Model(ABC):
     name: ClassVar[str]
     description: ClassVar[str]
     variables: ClassVar[tuple[str, ...]]
+    #: What the variables, ``x`` and ``t`` are, for labelled output (``RunResult.to_xarray``):
+    #: name -> long name. Values are in the scene's own units.
+    long_names: ClassVar[Mapping[str, str]] = {"x": "position", "t": "time"}
     aux_names: ClassVar[tuple[str, ...]] = ()
     reflect_signs: ClassVar[tuple[float, ...]]
     #: Sign of every coefficient row under a mirror image (a slope is odd: -1); default all +1.

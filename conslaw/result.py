@@ -11,6 +11,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 if TYPE_CHECKING:
+    import xarray
+
     from conslaw.analysis import ErrorNorms
     from conslaw.config import Scene
     from conslaw.exact import ExactSolution
@@ -82,6 +84,48 @@ class RunResult:
     def final(self) -> State:
         """The state at ``t_end``."""
         return self.states[-1]
+
+    def to_xarray(self) -> xarray.Dataset:
+        """The run as a labelled dataset: every conserved variable (and, where an exact solution
+        applies, its exact cell averages ``<name>_exact``) over ``t`` (the output times) and
+        ``x`` (the cell centres), with long names and units, and the run's scene, model,
+        scheme, reconstructor, steps and conslaw version as attributes. Write it with
+        ``to_netcdf`` (scipy's netCDF3 writer needs nothing more) or ``to_zarr``.
+
+        Units are the scene's own (``units = "1"``: dimensionless for the scaled Savage–Hutter
+        equations, whose long names give the scales).
+        """
+        import xarray as xr
+
+        from conslaw import __version__
+
+        names = self.model.long_names
+        t = np.array([state.t for state in self.states])
+        q = np.array([state.q for state in self.states])
+        variables: dict[str, tuple[tuple[str, str], Array, dict[str, str]]] = {}
+        for v, name in enumerate(self.model.variables):
+            attrs = {"long_name": names.get(name, name), "units": "1"}
+            variables[name] = (("t", "x"), q[:, v, :], attrs)
+            if any(e is not None for e in self.exact):
+                exact = np.array(
+                    [e[v] if e is not None else np.full(q.shape[-1], np.nan) for e in self.exact]
+                )
+                exact_attrs = {**attrs, "long_name": f"exact cell average of {attrs['long_name']}"}
+                variables[f"{name}_exact"] = (("t", "x"), exact, exact_attrs)
+        coordinates = {
+            "t": ("t", t, {"long_name": names.get("t", "time"), "units": "1"}),
+            "x": ("x", self.grid.centres(), {"long_name": names.get("x", "x"), "units": "1"}),
+        }
+        attributes = {
+            "scene": self.scene.name,
+            "model": self.scene.model,
+            "scheme": self.scene.scheme,
+            "reconstructor": self.scene.reconstructor_label,
+            "n_cells": self.grid.n_cells,
+            "steps": self.steps,
+            "conslaw_version": __version__,
+        }
+        return xr.Dataset(variables, coordinates, attributes)
 
     def headline_error(self) -> float | None:
         """L1 error of variable 0 at ``t_end`` against the exact cell averages (None if unknown)."""

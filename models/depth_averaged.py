@@ -7,6 +7,7 @@ by zero anywhere) and it holds no momentum.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import ClassVar
 
 import numpy as np
@@ -47,6 +48,12 @@ class DepthAveragedModel(Model):
     rules above, and the dry tolerance (a ``dry_tolerance`` field of the parameters)."""
 
     variables: ClassVar[tuple[str, ...]] = ("h", "hu")
+    long_names: ClassVar[Mapping[str, str]] = {
+        "x": "position",
+        "t": "time",
+        "h": "depth",
+        "hu": "depth times depth-averaged velocity",
+    }
     reflect_signs: ClassVar[tuple[float, ...]] = (1.0, -1.0)
     depth_index: ClassVar[int | None] = 0
     momentum_index: ClassVar[int | None] = 1

@@ -217,6 +217,14 @@ class SavageHutter(DepthAveragedModel):
 
     name = "savage-hutter"
     description = "Savage–Hutter avalanche (h, hu): earth pressure, Coulomb friction, curved chute"
+    # The scaled equations (docs/equations.md): lengths along the bed by L, depths by H,
+    # velocities by (g L)^(1/2), time by (L/g)^(1/2).
+    long_names: ClassVar[Mapping[str, str]] = {
+        "x": "arc length along the bed / L (dimensionless)",
+        "t": "time / (L/g)^(1/2) (dimensionless)",
+        "h": "depth normal to the bed / H (dimensionless)",
+        "hu": "depth times depth-averaged velocity / (H (g L)^(1/2)) (dimensionless)",
+    }
     aux_names = ("sin_zeta", "cos_zeta", "lambda_kappa", "K")
     aux_reflect_signs = (-1.0, 1.0, 1.0, 1.0)
     has_source = True

@@ -559,3 +559,22 @@ def test_a_failure_writing_the_first_output_leaves_an_earlier_run_intact(
     assert len(lines) == 1 and "No space left on device (solution.xdmf)" in lines[0], lines
     assert "the output at t=0.25" in lines[0] and str(out) in lines[0]
     assert snapshot(out) == before
+
+
+def test_a_result_as_a_labelled_dataset_round_trips_through_netcdf(tmp_path: Path) -> None:
+    """``RunResult.to_xarray``: the states over (t, x) with long names, units and the exact
+    cell averages; written to netCDF and read back, the same values, names and attributes."""
+    import xarray as xr
+
+    result = conslaw.run("sh-similarity", n_cells=60)
+    dataset = result.to_xarray()
+    assert dataset["h"].dims == ("t", "x") and dataset.sizes["x"] == 60
+    np.testing.assert_array_equal(dataset["hu"].values[-1], result.final.q[1])
+    np.testing.assert_array_equal(dataset["t"].values, [s.t for s in result.states])
+    assert "H (g L)^(1/2)" in dataset["hu"].attrs["long_name"]
+    assert dataset["h"].attrs["units"] == "1" and "h_exact" in dataset
+    assert dataset.attrs["scene"] == "sh-similarity" and dataset.attrs["steps"] == result.steps
+    path = tmp_path / "run.nc"
+    dataset.to_netcdf(path, engine="scipy")
+    with xr.open_dataset(path, engine="scipy") as back:
+        xr.testing.assert_identical(back.load(), dataset)
