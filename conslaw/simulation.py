@@ -13,7 +13,7 @@ from numpy.typing import NDArray
 
 from conslaw import registry
 from conslaw.analysis import error_norms, total_mass
-from conslaw.config import Scene, load_scene
+from conslaw.config import Scene, load_scene, validate
 from conslaw.errors import ConfigError, RunInterrupted, SchemeBreakdownError, StepLimitError
 from conslaw.exact import ExactSolution, Unavailable
 from conslaw.grid import Grid
@@ -63,6 +63,20 @@ def _build(
     initial = scheme.initial_state(State(0.0, grid.centres(), q0, 0.0), scene.initial)
     exact, note = exact_solution_for(scene, model, grid)
     return model, grid, scheme, initial, exact, note
+
+
+def check_scene(scene: Scene) -> None:
+    """The rules of a scene file for a Scene object too (one made or changed in Python, e.g. by
+    ``dataclasses.replace``, skips :func:`conslaw.config.validate`): a ConfigError naming the key,
+    as for the file. The output times must also be the increasing, distinct times validation
+    makes of them (the outputs are labelled by them)."""
+    validate(scene.name, scene.to_table())
+    times = list(scene.output_times)
+    if times != sorted(set(times)) or not times or times[-1] != scene.t_end:
+        raise ConfigError(
+            f"scene key 'output_times': {times} must increase, without repeats, and end at "
+            f"t_end={scene.t_end}"
+        )
 
 
 def check_memory(scene: Scene, model: Model) -> None:
@@ -124,6 +138,7 @@ def simulate(
     becomes :class:`~conslaw.errors.RunInterrupted` saying where the run stopped.
     ``notice(message)`` is told of a wait before it starts (a first run compiling its kernels).
     """
+    check_scene(scene)
     model, grid, scheme, initial, exact_solution, exact_note = _build(scene)
     scheme.check_admissible(initial, step=0)
     result = RunResult(

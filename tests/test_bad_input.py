@@ -592,3 +592,17 @@ def test_a_run_too_large_for_the_memory_limit_is_one_line(tmp_path: Path) -> Non
     assert done.returncode == 2 and len(lines) == 1, done.stderr
     assert "n_cells = 50000000" in lines[0] and "GiB" in lines[0], lines[0]
     assert not out.exists()
+
+
+def test_a_scene_object_changed_in_python_is_checked_like_a_file() -> None:
+    """``simulate`` on a Scene changed with ``dataclasses.replace`` (no validation): a NaN t_end
+    or unsorted output times are a one-line ConfigError naming the key, not a run."""
+    from dataclasses import replace
+
+    from conslaw.simulation import simulate
+
+    scene = load_scene("burgers-sine")
+    with pytest.raises(ConfigError, match="t_end"):
+        simulate(replace(scene, t_end=float("nan")))
+    with pytest.raises(ConfigError, match="output_times"):
+        simulate(replace(scene, output_times=(0.2, 0.1, 0.25)))
