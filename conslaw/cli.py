@@ -229,8 +229,15 @@ def _run_scene(scene: Scene, out: Path, writer: RunWriter) -> int:
     if rows:
         drift = ", ".join(f"{result.model.variables[v]} {result.mass_drift[v]:+.2e}" for v in rows)
         closed = {scene.left.kind, scene.right.kind} <= {"periodic", "wall"}
-        where = "closed domain: round-off only" if closed else "boundary fluxes included"
-        print(f"  relative change of conserved totals ({where}): {drift}")
+        where = (
+            "closed domain: round-off only"
+            if closed
+            else "open boundaries: what flowed in or out, not a conservation error"
+        )
+        print(f"  relative change of conserved totals from t=0 ({where}): {drift}")
+    note = result.outflow_fed_note()
+    if note is not None:
+        print(f"  note: {note}")
     for path in files:
         print(f"  wrote {path}")
     return 0

@@ -127,6 +127,24 @@ class RunResult:
         }
         return xr.Dataset(variables, coordinates, attributes)
 
+    def outflow_fed_note(self, threshold: float = 1e-3) -> str | None:
+        """A warning if the total depth grew by more than ``threshold`` (relative) in a run whose
+        open boundaries are all ``outflow``: zero-gradient ghost cells let material moving
+        towards the domain flow in, so an outflow boundary can feed mass (a release whose rear
+        reaches the upper end of the domain). None otherwise."""
+        depth = self.model.depth_index
+        kinds = {self.scene.left.kind, self.scene.right.kind}
+        if depth is None or "outflow" not in kinds or "inflow" in kinds:
+            return None
+        growth = float(self.mass_drift[depth])
+        if not growth > threshold:
+            return None
+        return (
+            f"the total {self.model.variables[depth]} grew by {100 * growth:.3g} % through an "
+            "outflow boundary (its zero-gradient ghost cells let material that moves towards "
+            "the domain flow in); a wall or a longer domain avoids it"
+        )
+
     def headline_error(self) -> float | None:
         """L1 error of variable 0 at ``t_end`` against the exact cell averages (None if unknown)."""
         error = self.errors[-1]
