@@ -305,6 +305,16 @@ def _command_compare(args: argparse.Namespace) -> int:
     return 0
 
 
+def _command_warm(args: argparse.Namespace) -> int:
+    from conslaw.errors import ConfigError
+    from conslaw.warm import warm
+
+    if args.jobs is not None and args.jobs < 1:
+        raise ConfigError(f"--jobs: expected an integer >= 1, got {args.jobs}")
+    warm(args.scenes or None, args.jobs, report=lambda line: print(line, flush=True))
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser (exposed for the documentation)."""
     parser = _Parser(prog="conslaw", description="Hyperbolic conservation laws in 1D.")
@@ -347,6 +357,11 @@ def build_parser() -> argparse.ArgumentParser:
         help="paper: Tai et al. (2001), Figs. 3, 4 and 5 and the Lagrangian comparison",
     )
     reproduce.add_argument("--out", help="output folder (default conslaw-output/paper)")
+    warm = commands.add_parser(
+        "warm", help="compile the kernels of the built-in scenes (or those named) ahead of use"
+    )
+    warm.add_argument("scenes", nargs="*", help="scene names or .toml files (default: built-in)")
+    warm.add_argument("--jobs", type=int, help="processes at once (default: one per core)")
     versus = commands.add_parser(
         "compare", help="one scene with several schemes: one figure, a table of errors and times"
     )
@@ -373,6 +388,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         "convergence": _command_convergence,
         "reproduce": _command_reproduce,
         "compare": _command_compare,
+        "warm": _command_warm,
     }
     try:
         return handlers[args.command](args)

@@ -344,3 +344,25 @@ def test_an_unusable_kernel_cache_folder_is_one_line(
             registry.boundaries.get("periodic").fill_left,
             registry.boundaries.get("periodic").fill_right,
         )
+
+
+def test_warm_compiles_each_kernel_family_once(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``conslaw warm`` with two scenes of one kernel family compiles it once (in a worker
+    process); then runs need no compile, and a second warm has nothing to do."""
+    from test_bad_input import run_in_process
+
+    from conslaw.config import load_scene
+    from conslaw.simulation import build
+
+    monkeypatch.setenv("CONSLAW_CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(codegen, "_loaded", {})
+    code, out, err = run_in_process(["warm", "burgers-sine", "burgers-riemann"], capsys)
+    assert code == 0, err
+    assert "compiling 1 kernel families" in out and "nessyahu-tadmor kernels for burgers" in out
+    monkeypatch.setattr(codegen, "_loaded", {})
+    _, _, scheme, _, _ = build(load_scene("burgers-riemann"))
+    assert not scheme.needs_compile()
+    code, out, err = run_in_process(["warm", "burgers-sine", "--jobs", "1"], capsys)
+    assert code == 0 and "compiled already" in out, out + err

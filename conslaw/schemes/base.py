@@ -142,6 +142,12 @@ class Scheme(ABC):
     def step(self, state: State, dt: float) -> State:
         """One time step of length ``dt``."""
 
+    def kernel_identity(self) -> str | None:
+        """A name shared by every scheme that runs the same compiled kernels (the generated
+        module's), or None for a scheme without compiled code: ``conslaw warm`` compiles each
+        once."""
+        return None
+
     def needs_compile(self) -> bool:
         """Whether :meth:`compile` will compile code (not load it from a cache): a run announces
         the wait. The default (a scheme without compiled code) is False."""

@@ -364,6 +364,10 @@ class FrontTrackingNT(NessyahuTadmor):
         self._padded = {offset: self._padded_positions(offset) for offset in (0.0, 0.5)}
         self._centres = {offset: self.grid.centres(offset, self.periodic) for offset in (0.0, 0.5)}
 
+    def kernel_identity(self) -> str | None:
+        """The generated front-tracking kernel module's name."""
+        return str(self.ft_kernels.__name__)
+
     def needs_compile(self) -> bool:
         """Whether the front-tracking kernel's first call compiles (it is not in the cache)."""
         return not compiled_before(self.ft_kernels, "ft_advance")

@@ -276,6 +276,10 @@ class NessyahuTadmor(Scheme):
             self._work = np.zeros(self._kernels.work_size(self.n_staggered))
         return self._kernels
 
+    def kernel_identity(self) -> str | None:
+        """The generated kernel module's name."""
+        return str(self.kernels.__name__)
+
     def needs_compile(self) -> bool:
         """Whether the fused kernel's first call compiles (it is not in the kernel cache)."""
         return not compiled_before(self.kernels, "advance")

@@ -1,0 +1,62 @@
+"""Compile the kernels of a set of scenes ahead of their first run (``conslaw warm``).
+
+A first run of a model compiles its kernels for about half a minute (docs/performance.md). This
+compiles every kernel family the scenes need, each once (scenes that share a kernel are grouped
+by the name of their generated module), in parallel processes, so that later runs load them
+from the cache.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+import time
+from collections.abc import Callable, Sequence
+from concurrent.futures import ProcessPoolExecutor, as_completed
+
+from conslaw import registry
+
+
+def warm(
+    scenes: Sequence[str] | None = None,
+    jobs: int | None = None,
+    report: Callable[[str], None] = print,
+) -> int:
+    """Compile the kernels of ``scenes`` (default: every built-in scene) in up to ``jobs``
+    processes (default: the number of cores); ``report`` gets a line per kernel family. Returns
+    how many families were compiled (0 when all were cached)."""
+    from conslaw.config import load_scene
+    from conslaw.simulation import build
+
+    names = list(scenes) if scenes is not None else sorted(registry.scenes.names())
+    families: dict[str, str] = {}
+    for name in names:
+        _, _, scheme, _, _ = build(load_scene(name))
+        key = scheme.kernel_identity()
+        if key is not None and key not in families and scheme.needs_compile():
+            families[key] = name
+    if not families:
+        report("every kernel these scenes need is compiled already")
+        return 0
+    workers = max(1, min(jobs or os.cpu_count() or 1, len(families)))
+    report(f"compiling {len(families)} kernel families in {workers} processes ...")
+    context = multiprocessing.get_context("spawn")  # a fresh interpreter: no inherited JIT state
+    with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
+        futures = [pool.submit(_compile_scene, name) for name in families.values()]
+        for future in as_completed(futures):
+            name, label, seconds = future.result()
+            report(f"  {label} (as for {name}): {seconds:.1f} s")
+    return len(families)
+
+
+def _compile_scene(name: str) -> tuple[str, str, float]:
+    """In a worker: compile what a run of scene ``name`` needs; (name, what, seconds)."""
+    from conslaw.config import load_scene
+    from conslaw.simulation import build
+
+    started = time.perf_counter()
+    scene = load_scene(name)
+    _, _, scheme, initial, _ = build(scene)
+    scheme.compile(initial)
+    scheme.cell_coefficients(initial)  # the model's array kernels, used at every output
+    return name, f"{scene.scheme} kernels for {scene.model}", time.perf_counter() - started
