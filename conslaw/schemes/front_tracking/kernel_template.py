@@ -58,6 +58,7 @@ from conslaw.schemes.nessyahu_tadmor.kernel_template import (
     cell_velocity,
     col,
     copy_cells,
+    finished_slope,
     in_thin_tail,
     interface_fluxes,
     load_params,
@@ -340,7 +341,7 @@ def ft_predict(
     for j in range(count + 2):
         work[FT_VELOCITY, col(j)] = cell_velocity(src, first - 1 + j)
     stencil_slopes(
-        data, src, first, count, dx, aux_centre, int(parameters[SLOPE_CODE]), work[FT_STENCIL],
+        data, first, count, dx, aux_centre, int(parameters[SLOPE_CODE]), work[FT_STENCIL],
         work[FT_SLOPE : FT_SLOPE + NV],
     )  # fmt: skip
     for j in range(count):
@@ -348,7 +349,7 @@ def ft_predict(
         c = col(i)
         for v in range(NV):
             state[v] = src[v, c]
-            slope[v] = work[FT_SLOPE + v, col(j)]
+            slope[v] = finished_slope(work[FT_SLOPE + v, col(j)], v, src, c, dx, aux_centre)
         if state[DEPTH] > 0.0:
             bound_momentum_slope(
                 state[DEPTH], state[MOMENTUM], slope, work[FT_VELOCITY, col(j)],

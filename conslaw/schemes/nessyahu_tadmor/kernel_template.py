@@ -273,39 +273,45 @@ def copy_cells(src, dst, n):
 
 
 @njit(cache=True, error_model="numpy")
-def stencil_slopes(data, src, first, count, dx, aux_centre, code, values, slopes):
-    """Slopes ``slopes[v, j]`` of padded cells ``first + j``, ``j < count`` (eq. 11).
+def stencil_slopes(data, first, count, dx, aux_centre, code, values, slopes):
+    """Slopes ``slopes[v, j]`` of padded cells ``first + j``, ``j < count`` (eq. 11), before
+    the rules of :func:`finished_slope`.
 
     The reconstructor (the built-in one of ``code``, or the bound plugin slope) acts on the
-    stencil values read from ``data``; each slope is then limited with the depth of its cell in
-    ``src`` (front tracking continues the body across a margin in ``data``; the plain scheme
-    passes ``data = src``). ``values`` is a scratch row of ``count + 4`` entries. Each variable
-    is one pass per rule, with the reconstructor chosen outside the loop over the cells.
+    stencil values read from ``data`` (front tracking continues the body across a margin in
+    ``data``), chosen outside the loop over the cells. ``values`` is a scratch row of
+    ``count + 4`` entries for the surface ``depth + bed`` of the surface gradient method;
+    otherwise the reconstructor reads ``data``'s row itself.
     """
     for v in range(NV):
-        surface = SURFACE_BED >= 0 and v == DEPTH
-        if surface:
-            # Surface gradient method: reconstruct depth + bed, then remove the bed slope.
+        if SURFACE_BED >= 0 and v == DEPTH:
             for j in range(count + 4):
                 c = col(first - 2 + j)
                 values[j] = data[v, c] + aux_centre[SURFACE_BED, c]
+            stencil = values
         else:
-            for j in range(count + 4):
-                values[j] = data[v, col(first - 2 + j)]
+            stencil = data[v, first - 2 : first + count + 2]
         row = slopes[v]
         if CUSTOM_SLOPES:
             for j in range(count):
                 row[j] = _slope_point(
-                    values[j], values[j + 1], values[j + 2], values[j + 3], values[j + 4]
+                    stencil[j], stencil[j + 1], stencil[j + 2], stencil[j + 3], stencil[j + 4]
                 )
         else:
-            builtin_slopes(code, values, count, row)
-        if surface:
-            for j in range(count):
-                row[j] = row[j] - dx * aux_centre[SURFACE_SLOPE, col(first + j)]
-        if DEPTH >= 0:
-            for j in range(count):
-                row[j] = depth_limited(row[j], src[DEPTH, col(first + j)], v)
+            builtin_slopes(code, stencil, count, row)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def finished_slope(raw, v, src, c, dx, aux_centre):
+    """The slope of variable v in the cell of column ``c`` from the reconstructor's ``raw``
+    one: with the surface gradient method the bed slope removed, then the depth rules of
+    :func:`depth_limited` with the cell's depth in ``src``."""
+    slope = raw
+    if SURFACE_BED >= 0 and v == DEPTH:
+        slope = slope - dx * aux_centre[SURFACE_SLOPE, c]
+    if DEPTH >= 0:
+        slope = depth_limited(slope, src[DEPTH, c], v)
+    return slope
 
 
 @njit(cache=True, inline="always")
@@ -477,7 +483,7 @@ def predict_cells(
             work[slot(VELOCITY, j)] = cell_velocity(src, first - 1 + j)
     rows = work[:WORK_SIZE].reshape((WORK_ROWS, STRIDE))
     stencil_slopes(
-        src, src, first, count, dx, aux_centre, int(parameters[SLOPE_CODE]), rows[STENCIL],
+        src, first, count, dx, aux_centre, int(parameters[SLOPE_CODE]), rows[STENCIL],
         rows[SLOPE : SLOPE + NV],
     )  # fmt: skip
     for j in range(count):
@@ -485,7 +491,7 @@ def predict_cells(
         c = col(i)
         for v in range(NV):
             state[v] = src[v, c]
-            slope[v] = work[slot(SLOPE + v, j)]
+            slope[v] = finished_slope(work[slot(SLOPE + v, j)], v, src, c, dx, aux_centre)
         if MOMENTUM >= 0 and state[DEPTH] > 0.0:
             bound_momentum_slope(
                 state[DEPTH], state[MOMENTUM], slope, work[slot(VELOCITY, j)],
@@ -955,11 +961,11 @@ def depth_share(w, i, side, dt, dx, aux, parameters):
     load_params(parameters, params)
     values = local_vector(5)
     slopes = local_matrix(NV)
-    stencil_slopes(w, w, i, 1, dx, aux, int(parameters[SLOPE_CODE]), values, slopes)
+    stencil_slopes(w, i, 1, dx, aux, int(parameters[SLOPE_CODE]), values, slopes)
     c = col(i)
     for v in range(NV):
         state[v] = w[v, c]
-        slope[v] = slopes[v, 0]
+        slope[v] = finished_slope(slopes[v, 0], v, w, c, dx, aux)
     if state[DEPTH] > 0.0:
         bound_momentum_slope(
             state[DEPTH], state[MOMENTUM], slope, cell_velocity(w, i - 1), cell_velocity(w, i),
