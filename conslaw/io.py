@@ -48,7 +48,7 @@ import threading
 import weakref
 import xml.etree.ElementTree as ET
 from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -125,9 +125,11 @@ class OutputCommit:
     """The files of one output time, put in place together or not at all.
 
     :meth:`put` writes each file under a temporary name beside its destination; :meth:`apply`
-    renames them all into place (data files first, then the indexes that list them, in the order
-    they were put); :meth:`undo` removes the temporary files. A write that fails (a full disk)
-    therefore leaves every file of the folder as it was before this output.
+    renames them all into place: first the files whose names are new (if one of those renames
+    fails, the ones already in place are removed again), then those that replace a file (data
+    files before the indexes that list them, in the order they were put). :meth:`undo` removes
+    the temporary files. A write that fails (a full disk) therefore leaves every file of the
+    folder as it was before this output.
     """
 
     def __init__(self) -> None:
@@ -145,7 +147,18 @@ class OutputCommit:
         return Path(path)
 
     def apply(self) -> None:
-        """Rename every staged file into place."""
+        """Rename every staged file into place (new names first; see the class)."""
+        new = [pair for pair in self._staged if not pair[1].exists()]
+        placed: list[Path] = []
+        try:
+            for temporary, path in new:
+                os.replace(temporary, path)
+                placed.append(path)
+        except BaseException:
+            for path in placed:
+                path.unlink(missing_ok=True)
+            raise
+        self._staged = [pair for pair in self._staged if pair not in new]
         while self._staged:
             temporary, path = self._staged[0]
             os.replace(temporary, path)
@@ -427,6 +440,8 @@ def fields_csv(t: float, x: Array, fields: dict[str, Array]) -> bytes:
 
 #: Names of the files conslaw writes into a run folder (at the end of a run, those it did not
 #: write this time are left over from an earlier run into the same folder, and removed).
+#: A temporary file of :func:`write_temporary` (``.<name>.<8 random characters>.tmp``).
+_TEMPORARY = re.compile(r"\.(.+)\.[^.]{8}\.tmp")
 _OWN_FILE = re.compile(
     rf"^({SERIES}(-(\d{{5}}|mesh)\.(h5|vtu|csv)|\.xdmf|\.pvd)"
     r"|states\.npz|margins\.csv|(profiles|margins|chute|xt)\.png)$"
@@ -556,14 +571,17 @@ class RunWriter:
                 if history:
                     self.history(result, commit)
                 commit.apply()
-                if first:
-                    self._remove_earlier_run()
-            except OSError as error:
+            except BaseException as error:
                 commit.undo()
                 self._files = kept[0]
                 del self._xdmf[kept[1] :], self._pvd[kept[2] :]
-                raise OutputError(self._failure(f"the output at t={t:.6g}", error)) from None
+                if isinstance(error, OSError):
+                    message = self._failure(f"the output at t={t:.6g}", error)
+                    raise OutputError(message) from None
+                raise
             self.last_time = t
+            if first:
+                self._remove_earlier_run()
 
     def _failure(self, what: str, error: OSError) -> str:
         reason = error.strerror or str(error)
@@ -579,10 +597,18 @@ class RunWriter:
             raise FileNotFoundError(0, "the folder was removed or replaced during the run")
 
     def _remove_earlier_run(self) -> None:
-        """Remove files under conslaw's names that this run did not write (an earlier run's)."""
+        """Remove files under conslaw's names that this run did not write (an earlier run's),
+        and temporary files a killed run left; as far as possible (what cannot be removed
+        stays)."""
         for entry in self.folder.iterdir():
-            if _OWN_FILE.match(entry.name) and entry not in self._files:
-                entry.unlink(missing_ok=True)
+            stale = _OWN_FILE.match(entry.name) and entry not in self._files
+            temporary = _TEMPORARY.fullmatch(entry.name)
+            own = temporary is not None and (
+                _OWN_FILE.match(temporary.group(1)) or temporary.group(1) == "scene.toml"
+            )
+            if stale or own:
+                with suppress(OSError):
+                    entry.unlink(missing_ok=True)
 
     def output(self, result: RunResult, index: int, commit: OutputCommit) -> None:
         """Stage the series files of output ``index`` (XDMF/HDF5, VTU, CSV), then their
@@ -639,6 +665,7 @@ class RunWriter:
             return []
         try:
             with signals_held():
+                self._check_folder()
                 commit = OutputCommit()
                 try:
                     self.history(result, commit, final=True)
@@ -662,8 +689,10 @@ def write_run(result: RunResult, folder: Path, figures: FigureWriter | None = No
     writer = RunWriter(folder, result.scene, figures)
     try:
         writer.claim()
-        for index in range(len(result.states)):
-            writer.write(result, index, history=False)
+        last = len(result.states) - 1
+        for index in range(last + 1):
+            # The history with the last output: an earlier run's states.npz stays until then.
+            writer.write(result, index, history=index == last)
         return writer.finish(result)
     finally:
         writer.release()

@@ -86,6 +86,8 @@ class Model(ABC):
     #: What the variables, ``x`` and ``t`` are, for labelled output (``RunResult.to_xarray``):
     #: name -> long name. Values are in the scene's own units.
     long_names: ClassVar[Mapping[str, str]] = {"x": "position", "t": "time"}
+    #: Whether the equations are in scaled, dimensionless variables (labelled output says so).
+    dimensionless: ClassVar[bool] = False
     aux_names: ClassVar[tuple[str, ...]] = ()
     reflect_signs: ClassVar[tuple[float, ...]]
     #: Sign of every coefficient row under a mirror image (a slope is odd: -1); default all +1.

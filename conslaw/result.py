@@ -72,6 +72,8 @@ class RunResult:
     def __repr__(self) -> str:
         """One line: the scene, where the run got to and its headline error (the arrays are
         in :attr:`states`; the whole record would fill a screen)."""
+        if not self.states:
+            return f"<RunResult {self.scene.name}: no output yet>"
         error = self.headline_error()
         shown = "no exact solution" if error is None else f"L1 error {error:.4g}"
         return (
@@ -92,19 +94,21 @@ class RunResult:
         scheme, reconstructor, steps and conslaw version as attributes. Write it with
         ``to_netcdf`` (scipy's netCDF3 writer needs nothing more) or ``to_zarr``.
 
-        Units are the scene's own (``units = "1"``: dimensionless for the scaled Savage–Hutter
-        equations, whose long names give the scales).
+        Units: ``units = "1"`` (dimensionless) for a model whose equations are scaled (the
+        Savage–Hutter long names give the scales); otherwise the values are in the scene's own
+        units, and no ``units`` attribute is claimed.
         """
         import xarray as xr
 
         from conslaw import __version__
 
         names = self.model.long_names
+        units = {"units": "1"} if self.model.dimensionless else {}
         t = np.array([state.t for state in self.states])
         q = np.array([state.q for state in self.states])
         variables: dict[str, tuple[tuple[str, str], Array, dict[str, str]]] = {}
         for v, name in enumerate(self.model.variables):
-            attrs = {"long_name": names.get(name, name), "units": "1"}
+            attrs = {"long_name": names.get(name, name), **units}
             variables[name] = (("t", "x"), q[:, v, :], attrs)
             if any(e is not None for e in self.exact):
                 exact = np.array(
@@ -113,8 +117,8 @@ class RunResult:
                 exact_attrs = {**attrs, "long_name": f"exact cell average of {attrs['long_name']}"}
                 variables[f"{name}_exact"] = (("t", "x"), exact, exact_attrs)
         coordinates = {
-            "t": ("t", t, {"long_name": names.get("t", "time"), "units": "1"}),
-            "x": ("x", self.grid.centres(), {"long_name": names.get("x", "x"), "units": "1"}),
+            "t": ("t", t, {"long_name": names.get("t", "time"), **units}),
+            "x": ("x", self.grid.centres(), {"long_name": names.get("x", "x"), **units}),
         }
         attributes = {
             "scene": self.scene.name,

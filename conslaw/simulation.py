@@ -39,7 +39,7 @@ def _build(
     model = model_class(**scene.parameters)
     model.check_domain(scene.x_min, scene.x_max)
     check_memory(scene, model)
-    grid = Grid(scene.x_min, scene.x_max, scene.n_cells)
+    grid = Grid(float(scene.x_min), float(scene.x_max), int(scene.n_cells))
     left = BoundarySpec(registry.boundaries.get(scene.left.kind), scene.left.options)
     right = BoundarySpec(registry.boundaries.get(scene.right.kind), scene.right.options)
     scheme_name = scene.scheme
@@ -54,7 +54,7 @@ def _build(
         grid,
         left,
         right,
-        scene.cfl,
+        float(scene.cfl),
         **scene.scheme_options,
     )
     q0 = scene.initial.cell_averages(grid, model)
@@ -70,13 +70,24 @@ def check_scene(scene: Scene) -> None:
     ``dataclasses.replace``, skips :func:`conslaw.config.validate`): a ConfigError naming the key,
     as for the file. The output times must also be the increasing, distinct times validation
     makes of them (the outputs are labelled by them)."""
-    validate(scene.name, scene.to_table())
-    times = list(scene.output_times)
+    validate(scene.name, _plain(scene.to_table()))
+    times = [float(t) for t in scene.output_times]
     if times != sorted(set(times)) or not times or times[-1] != scene.t_end:
         raise ConfigError(
             f"scene key 'output_times': {times} must increase, without repeats, and end at "
             f"t_end={scene.t_end}"
         )
+
+
+def _plain(value: Any) -> Any:
+    """``value`` with numpy scalars as Python numbers (in nested tables and lists too)."""
+    if isinstance(value, dict):
+        return {key: _plain(item) for key, item in value.items()}
+    if isinstance(value, list | tuple):
+        return [_plain(item) for item in value]
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
 
 
 def check_memory(scene: Scene, model: Model) -> None:
@@ -146,6 +157,7 @@ def simulate(
         np.zeros(model.n_vars), 0.0, exact_note,
     )  # fmt: skip
     reached = [initial.t, 0.0]  # time and steps the solution has reached
+    checked = [initial.t, 0.0]  # time and steps at the previous progress report
     target = [initial.t]  # the output time the scheme is advancing to
     last_output: float | None = None
 
@@ -155,8 +167,9 @@ def simulate(
         # Not at the output time itself: that state is recorded first (checked after it).
         if steps > scene.max_steps and t < target[0]:
             raise StepLimitError(step_limit_message(scene, initial.t, t, steps))
-        if cannot_finish(scene, initial.t, t, steps) and t < target[0]:
+        if cannot_finish(scene, (checked[0], int(checked[1])), t, steps) and t < target[0]:
             raise StepLimitError(step_limit_message(scene, initial.t, t, steps, early=True))
+        checked[:] = [t, steps]
         if progress is not None:
             progress(t, result.steps + n)
 
@@ -211,15 +224,23 @@ HOPELESS_AFTER_STEPS = 10_000
 HOPELESS_FACTOR = 10.0
 
 
-def cannot_finish(scene: Scene, t_start: float, t: float, steps: int) -> bool:
-    """Whether a run at ``t`` after ``steps`` steps would need, at its mean rate so far, more
-    than ``HOPELESS_FACTOR * max_steps`` steps to reach ``t_end`` (a domain far too small for
-    its waves, say): it is stopped then, not when it finally reaches ``max_steps``."""
+def steps_needed(scene: Scene, since: tuple[float, int], t: float, steps: int) -> float:
+    """The steps a run at ``t`` after ``steps`` steps needs to reach ``t_end``, at its rate since
+    ``since`` = (time, steps) of the previous check (an early transient of tiny steps does not
+    count against it once the steps grow)."""
+    elapsed = t - since[0]
+    if not elapsed > 0:
+        return np.inf
+    return steps + (steps - since[1]) * (scene.t_end - t) / elapsed
+
+
+def cannot_finish(scene: Scene, since: tuple[float, int], t: float, steps: int) -> bool:
+    """Whether a run at ``t`` after ``steps`` steps would need more than ``HOPELESS_FACTOR *
+    max_steps`` steps in all at its recent rate (:func:`steps_needed`; a domain far too small
+    for its waves, say): it is stopped then, not when it finally reaches ``max_steps``."""
     if steps < HOPELESS_AFTER_STEPS:
         return False
-    elapsed = t - t_start
-    needed = steps * (scene.t_end - t_start) / elapsed if elapsed > 0 else np.inf
-    return bool(needed > HOPELESS_FACTOR * scene.max_steps)
+    return bool(steps_needed(scene, since, t, steps) > HOPELESS_FACTOR * scene.max_steps)
 
 
 def step_limit_message(

@@ -142,6 +142,9 @@ class TableChute(Chute):
         # Imported here: scipy.interpolate costs about 0.4 s, and only a table chute needs it.
         from scipy.interpolate import PchipInterpolator, make_smoothing_spline
 
+        # One row's spacing along the bed: how far a domain may reach past the table's ends.
+        steps = np.diff(x) if names[1] == "zeta" else np.hypot(np.diff(x), np.diff(values))
+        self._row_spacing = float(np.max(steps))
         if names[1] == "zeta":
             if np.any(np.abs(values) >= 90):
                 raise ConfigError(f"parameters.chute_file: angles must be in (-90, 90) in '{path}'")
@@ -168,12 +171,12 @@ class TableChute(Chute):
         """The domain's part beyond the table's arc lengths ``[s_0, s_end]``, where the chute
         would continue as a plane at the angle of the table's nearer end."""
         first, last = float(self._s[0]), float(self._s[-1])
-        slack = 1e-9 * max(abs(first), abs(last), last - first)
+        slack = self._row_spacing  # the arc length of a profile comes from a smoothed fit
         if x_min >= first - slack and x_max <= last + slack:
             return None
         return (
-            f"the chute table covers arc lengths x in [{first:.6g}, {last:.6g}], the domain is "
-            f"[{x_min:.6g}, {x_max:.6g}]"
+            f"the chute table covers arc lengths x in [{first:.6g}, {last:.6g}] (along the "
+            f"smoothed profile, give or take one row), the domain is [{x_min:.6g}, {x_max:.6g}]"
         )
 
     def curvature(self, x: Array) -> Array:

@@ -219,6 +219,7 @@ class SavageHutter(DepthAveragedModel):
     description = "Savage–Hutter avalanche (h, hu): earth pressure, Coulomb friction, curved chute"
     # The scaled equations (docs/equations.md): lengths along the bed by L, depths by H,
     # velocities by (g L)^(1/2), time by (L/g)^(1/2).
+    dimensionless = True
     long_names: ClassVar[Mapping[str, str]] = {
         "x": "arc length along the bed / L (dimensionless)",
         "t": "time / (L/g)^(1/2) (dimensionless)",

@@ -606,3 +606,15 @@ def test_a_scene_object_changed_in_python_is_checked_like_a_file() -> None:
         simulate(replace(scene, t_end=float("nan")))
     with pytest.raises(ConfigError, match="output_times"):
         simulate(replace(scene, output_times=(0.2, 0.1, 0.25)))
+
+
+def test_a_scene_object_with_numpy_numbers_runs() -> None:
+    """numpy scalars in a Scene (from a numpy sweep, say) are numbers like any other."""
+    from dataclasses import replace
+
+    import numpy as np
+
+    from conslaw.simulation import simulate
+
+    scene = replace(load_scene("burgers-riemann"), n_cells=np.int64(32), cfl=np.float32(0.4))
+    assert simulate(scene).grid.n_cells == 32

@@ -578,3 +578,20 @@ def test_a_result_as_a_labelled_dataset_round_trips_through_netcdf(tmp_path: Pat
     dataset.to_netcdf(path, engine="scipy")
     with xr.open_dataset(path, engine="scipy") as back:
         xr.testing.assert_identical(back.load(), dataset)
+
+
+def test_the_steps_needed_follow_the_recent_rate() -> None:
+    """A run that began with 1e4 tiny steps (1e-7) and then took 1e3 steps of 1e-4 needs about
+    1.1e5 steps for t_end = 10 at its recent rate, not the 1e8 of its mean rate: it is not
+    stopped as hopeless with max_steps = 2e5."""
+    from dataclasses import replace
+
+    from conslaw.config import load_scene
+    from conslaw.simulation import cannot_finish, steps_needed
+
+    scene = replace(load_scene("burgers-riemann"), t_end=10.0, max_steps=200_000)
+    since = (1e-3, 10_000)
+    needed = steps_needed(scene, since, 1e-3 + 0.1, 11_000)
+    assert needed == pytest.approx(11_000 + 1_000 * (10.0 - 0.101) / 0.1)
+    assert not cannot_finish(scene, since, 0.101, 11_000)
+    assert cannot_finish(scene, (0.0, 0), 1e-3, 10_000)  # 1e8 at the tiny rate

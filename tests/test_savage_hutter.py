@@ -235,3 +235,15 @@ def test_terrain_example_scene_runs_from_anywhere(tmp_path: Path) -> None:
     with np.load(tmp_path / "out" / "states.npz") as data:
         assert np.all(data["q"][-1, 0] >= 0.0)
         assert data["q"][-1, 1].max() > 0.0  # it slides
+
+
+def test_a_chute_table_covers_its_smoothed_arc_length_give_or_take_a_row() -> None:
+    """The terrain example's smoothed arc length ends at 66.12; a domain to the straight-line
+    length along its rows (66.37) is covered, one to 70 is not."""
+    from conslaw_models.chute import TableChute
+
+    table = Path(__file__).resolve().parents[1] / "docs" / "examples" / "terrain-profile.csv"
+    chute = TableChute(table)
+    assert chute.uncovered(0.0, 66.37) is None
+    problem = chute.uncovered(0.0, 70.0)
+    assert problem is not None and "[0, 66.12" in problem

@@ -329,7 +329,7 @@ def _write_and_import(folder: Path, family: str, module_name: str, body: str) ->
     if present != body.encode():
         temporary = target.with_suffix(f".{os.getpid()}.{threading.get_ident()}.tmp")
         try:
-            temporary.write_text(body)
+            temporary.write_bytes(body.encode())  # UTF-8 and "\n" whatever the platform
             os.replace(temporary, target)
         except OSError as error:
             temporary.unlink(missing_ok=True)
@@ -384,7 +384,11 @@ class _RepairingCache:
 
     def _remove_files(self) -> None:
         """Delete this function's index and data files."""
-        index = Path(self._cache._cache_file._index_path)
+        cache_file = getattr(self._cache, "_cache_file", None)
+        index_path = getattr(cache_file, "_index_path", None)
+        if index_path is None:  # another numba: leave its files alone
+            return
+        index = Path(index_path)
         index.unlink(missing_ok=True)
         for data in index.parent.glob(f"{index.stem}.*.nbc"):
             data.unlink(missing_ok=True)
