@@ -223,11 +223,9 @@ def test_a_run_stopped_by_a_signal_keeps_every_earlier_output(
     np.testing.assert_array_equal(q, [s.q for s in reference.states])
 
 
-def test_a_failure_mid_run_keeps_every_earlier_output_and_says_so(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
-) -> None:
-    """An injected blow-up at the third output time: the CLI reports it in one line (exit 2)
-    and the two outputs before it load intact in every format."""
+def fail_at_third_output(monkeypatch: pytest.MonkeyPatch) -> object:
+    """Make the NT scheme's advance to the third output time raise an InadmissibleStateError
+    (an injected blow-up); returns the original advance."""
     advance = NessyahuTadmor.advance
     calls = []
 
@@ -239,6 +237,15 @@ def test_a_failure_mid_run_keeps_every_earlier_output_and_says_so(
         return advance(self, state, t_end, progress)
 
     monkeypatch.setattr(NessyahuTadmor, "advance", failing_advance)
+    return advance
+
+
+def test_a_failure_mid_run_keeps_every_earlier_output_and_says_so(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """An injected blow-up at the third output time: the CLI reports it in one line (exit 2)
+    and the two outputs before it load intact in every format."""
+    advance = fail_at_third_output(monkeypatch)
     from conslaw.cli import main
 
     out = tmp_path / "out"
@@ -512,17 +519,7 @@ def test_a_failed_run_over_an_earlier_one_leaves_no_mixture(
     earlier += ["--set", "output_times=[0.05, 0.1, 0.15, 0.2]", "--out", str(out)]
     assert main(earlier) == 0
     assert (out / "solution-00004.vtu").exists()
-    advance = NessyahuTadmor.advance
-    calls = []
-
-    def failing_advance(self, state, t_end, progress=None):  # type: ignore[no-untyped-def]
-        if t_end > state.t:
-            calls.append(t_end)
-            if len(calls) == 3:
-                raise InadmissibleStateError(f"inadmissible state at t={state.t:.6g}, step 7")
-        return advance(self, state, t_end, progress)
-
-    monkeypatch.setattr(NessyahuTadmor, "advance", failing_advance)
+    fail_at_third_output(monkeypatch)
     later = ["run", "burgers-sine", "--set", "n_cells=32", "--set", ALL_FOUR, "--no-plot"]
     later += ["--set", "output_times=[0.05, 0.1, 0.15, 0.2]", "--out", str(out)]
     assert main(later) == 2

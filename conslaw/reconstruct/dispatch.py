@@ -5,7 +5,8 @@ scene's reconstructor. The code is tested once per row, outside the loop over th
 branch is a plain loop over one limiter that compiles to SIMD code, and one compiled kernel
 serves all seven built-in reconstructors: changing the reconstructor of a scene compiles nothing
 (docs/design.md, "Compiled kernels"). A plugin's reconstructor has no code; its slope function is
-bound into the kernel instead.
+bound into the kernel instead. The seven loops are written out: a compiled function that takes
+another as an argument is not cached by numba, so one generic loop would compile in every run.
 """
 
 from __future__ import annotations
