@@ -13,7 +13,11 @@ the pressure flux at the same two cell centres, ``-g (h_L + h_R)/2 (b_R - b_L)/d
 averages ``b`` of the bed, as in the well-balanced central schemes of Russo (2005, "Central schemes
 for conservation laws with application to shallow water equations") and Kurganov & Levy (2002,
 M2AN 36). At rest it cancels the flux difference ``g (h_R^2 - h_L^2)/(2 dx)`` exactly, and it is
-second-order accurate in general.
+second-order accurate in general. Where a bed step is higher than the water in front of it (a
+shoreline) the step is clipped to that water's depth (hydrostatic reconstruction, Audusse et al.
+2004), so still water against dry land feels no net force; the staggered averaging still moves
+some water across a shoreline, and a lake with dry land stays at rest to O(dx), not to round-off
+(docs/design.md, "Well-balanced bed").
 """
 
 from __future__ import annotations
@@ -79,9 +83,25 @@ def source_point(q, aux, params, out):
 
 @njit(cache=True)
 def balanced_source_point(q_left, q_right, aux_left, aux_right, dx, params, out):
-    """Source averaged over the staggered cell: ``(0, -g (h_L + h_R)/2 (b_R - b_L)/dx)``."""
+    """Source averaged over the staggered cell, ``(0, -g (h_L + h_R)/2 D/dx)``.
+
+    ``D = b_R - b_L`` clipped to ``[-h_R, h_L]``: a bed step higher than the water in front of it
+    pushes on that water only, as in the hydrostatic reconstruction of Audusse, Bouchut,
+    Bristeau, Klein & Perthame (2004, SIAM J. Sci. Comput. 25). Still water against a dry bed
+    higher than its surface (``h_R = 0``, ``D = h_L``) then feels ``-g h_L^2/2``, which cancels the
+    pressure flux difference ``g (h_R^2 - h_L^2)/2`` exactly; with water on both sides the clip is
+    inactive at rest (``|b_R - b_L| < h`` on the deeper side), so the centred second-order form of
+    Russo (2005) is kept wherever the flow is wet (docs/design.md, "Well-balanced bed").
+    """
+    h_left = q_left[0]
+    h_right = q_right[0]
+    step = aux_right[BED] - aux_left[BED]
+    if step > h_left:
+        step = h_left
+    elif step < -h_right:
+        step = -h_right
     out[0] = 0.0
-    out[1] = -params[G] * 0.5 * (q_left[0] + q_right[0]) * (aux_right[BED] - aux_left[BED]) / dx
+    out[1] = -params[G] * 0.5 * (h_left + h_right) * step / dx
 
 
 @dataclass(frozen=True)

@@ -4,13 +4,14 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings, strategies as st
 
 import conslaw
 from conslaw.errors import ConfigError
 from conslaw.initial import InitialCondition
 from conslaw.schemes.nessyahu_tadmor import scheme as nessyahu_tadmor
 from conslaw.simulation import build
-from conslaw_models.shallow_water import ShallowWater
+from conslaw_models.shallow_water import ShallowWater, balanced_source_point
 from conslaw_models.shallow_water_exact import DamBreak
 
 
@@ -121,6 +122,82 @@ def test_lake_at_rest_stays_at_rest_for_1000_steps() -> None:
 def test_lake_at_rest_with_every_kind_of_slope(reconstructor: str) -> None:
     result = conslaw.run("lake-at-rest", t_end=5.0, n_cells=100, reconstructor=reconstructor)
     assert np.abs(result.final.q[1]).max() <= 1e-12
+
+
+def staggered_momentum_rate(
+    g: float, dx: float, left: tuple[float, float], right: tuple[float, float]
+) -> tuple[float, float]:
+    """The rate of change of the momentum of a staggered cell between two still cells
+    ``(depth, bed)``, from the pressure flux difference and the balanced source, and its scale
+    ``g h^2 / dx``."""
+    source = np.zeros(2)
+    balanced_source_point(
+        np.array([left[0], 0.0]), np.array([right[0], 0.0]), np.array([left[1], 0.0]),
+        np.array([right[1], 0.0]), dx, np.array([g]), source,
+    )  # fmt: skip
+    pressure = 0.5 * g * (right[0] ** 2 - left[0] ** 2) / dx
+    return source[1] - pressure, g * max(left[0], right[0]) ** 2 / dx
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    g=st.floats(0.01, 100.0),
+    dx=st.floats(1e-4, 1.0),
+    depth=st.floats(1e-9, 100.0),
+    excess=st.floats(0.0, 100.0),
+    bed=st.floats(-100.0, 100.0),
+    dry_on_the_right=st.booleans(),
+)
+def test_still_water_against_a_higher_dry_bed_feels_no_net_force(
+    g: float, dx: float, depth: float, excess: float, bed: float, dry_on_the_right: bool
+) -> None:
+    # A shoreline: the dry neighbour's bed is at or above the water's surface.
+    wet, dry = (depth, bed), (0.0, bed + depth * (1.0 + excess))
+    left, right = (wet, dry) if dry_on_the_right else (dry, wet)
+    rate, scale = staggered_momentum_rate(g, dx, left, right)
+    assert abs(rate) <= 1e-14 * scale
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    g=st.floats(0.01, 100.0),
+    dx=st.floats(1e-4, 1.0),
+    surface=st.floats(-10.0, 10.0),
+    depths=st.tuples(st.floats(1e-6, 10.0), st.floats(1e-6, 10.0)),
+)
+def test_still_water_over_a_wet_step_keeps_the_centred_source(
+    g: float, dx: float, surface: float, depths: tuple[float, float]
+) -> None:
+    left = (depths[0], surface - depths[0])
+    right = (depths[1], surface - depths[1])
+    source = np.zeros(2)
+    balanced_source_point(
+        np.array([left[0], 0.0]), np.array([right[0], 0.0]), np.array([left[1], 0.0]),
+        np.array([right[1], 0.0]), dx, np.array([g]), source,
+    )  # fmt: skip
+    centred = -g * 0.5 * (left[0] + right[0]) * (right[1] - left[1]) / dx
+    assert source[1] == centred
+    rate, scale = staggered_momentum_rate(g, dx, left, right)
+    assert abs(rate) <= 1e-12 * scale * (1.0 + abs(surface) / min(depths))
+
+
+@pytest.mark.parametrize("surface", [0.1, 0.3, 0.45])
+def test_a_lake_with_a_dry_island_stays_still_to_first_order(surface: float) -> None:
+    """Measured in docs/design.md, "Well-balanced bed": not round-off (the staggered averaging
+    moves water across the shoreline), but no velocity spikes at the shoreline and O(dx)."""
+    largest = {}
+    for n_cells in (100, 400):
+        result = conslaw.run(
+            "lake-at-rest", n_cells=n_cells, t_end=5.0, **{"initial.surface": surface}
+        )
+        depth, momentum = result.final.q
+        wet = depth >= 1e-6
+        assert depth.min() >= 0.0
+        assert np.abs(momentum[wet] / depth[wet]).max() <= 0.1, n_cells
+        largest[n_cells] = np.abs(momentum).max()
+    print(f"surface {surface}: max |hu| {largest[100]:.2e} (N=100), {largest[400]:.2e} (N=400)")
+    assert largest[100] <= 4e-4
+    assert largest[400] <= largest[100] / 2.5
 
 
 def test_a_flat_bed_compiles_no_source() -> None:
