@@ -13,14 +13,18 @@ Three kinds:
   (horizontal position, elevation: a terrain profile, e.g. from a DEM). For ``x,z`` the arc length
   and the angle are derived from a smoothing spline of the profile (scipy's
   ``make_smoothing_spline``, smoothing chosen by generalised cross-validation), so that noise in
-  the elevations does not become noise in the curvature. For ``x,zeta`` the angle is interpolated
+  the elevations does not become noise in the curvature; a profile of more than
+  ``MAX_SPLINE_ROWS`` rows is first averaged over that many groups of consecutive rows (the
+  cross-validation costs about 1 ms per row). For ``x,zeta`` the angle is interpolated
   by a monotone cubic (PCHIP); its derivative gives the curvature. Outside the table the chute
-  continues with the end angles and no curvature.
+  continues with the end angles and no curvature. An empty file, or one above
+  ``MAX_TABLE_BYTES``, is refused.
 """
 
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -108,6 +112,48 @@ class PaperChute(Chute):
         return np.where(inside, rate, 0.0)
 
 
+#: A chute table larger than this is refused (a 1D profile at 1 m spacing over 100 km is 5 MB).
+MAX_TABLE_BYTES = 200 * 1024 * 1024
+#: A profile ``x,z`` with more rows is averaged in this many groups of consecutive rows before the
+#: smoothing spline is fitted (its cross-validation costs about 1 ms per row).
+MAX_SPLINE_ROWS = 2000
+
+
+def _read_table(path: Path) -> np.ndarray:
+    """The CSV table at ``path`` as a structured array with the header's names."""
+    try:
+        size = path.stat().st_size
+    except OSError as error:
+        raise ConfigError(f"parameters.chute_file: cannot read '{path}': {error}") from None
+    if size == 0:
+        raise ConfigError(f"parameters.chute_file: '{path}' is empty")
+    if size > MAX_TABLE_BYTES:
+        raise ConfigError(
+            f"parameters.chute_file: '{path}' is {size / 2**20:.0f} MiB; a chute table may have "
+            f"at most {MAX_TABLE_BYTES // 2**20} MiB (thin the profile)"
+        )
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # numpy warns instead of failing on some broken tables
+        try:
+            return np.genfromtxt(path, delimiter=",", names=True, dtype=float)
+        except (OSError, ValueError, IndexError, UserWarning) as error:
+            raise ConfigError(f"parameters.chute_file: cannot read '{path}': {error}") from None
+
+
+def binned_profile(x: Array, z: Array, rows: int) -> tuple[Array, Array]:
+    """A profile of at most ``rows`` rows: the means of ``x`` and ``z`` over groups of
+    consecutive rows (the table itself if it is short enough). The first and last rows are
+    kept as they are, so the binned profile spans the same ``x``."""
+    if x.size <= rows:
+        return x, z
+    inner, groups = x.size - 2, rows - 2
+    edges = (np.arange(groups + 1) * inner) // groups  # group g is rows edges[g] .. edges[g+1]-1
+    counts = np.diff(edges).astype(np.float64)
+    inner_x = np.add.reduceat(x[1:-1], edges[:-1]) / counts
+    inner_z = np.add.reduceat(z[1:-1], edges[:-1]) / counts
+    return np.concatenate([x[:1], inner_x, x[-1:]]), np.concatenate([z[:1], inner_z, z[-1:]])
+
+
 class TableChute(Chute):
     """A chute from a CSV table (``x,zeta`` in degrees, or a profile ``x,z``)."""
 
@@ -118,10 +164,7 @@ class TableChute(Chute):
         if path.exists() and not path.is_file():
             # A folder, or a device such as /dev/zero that would be read forever.
             raise ConfigError(f"parameters.chute_file: '{path}' is not a regular file")
-        try:
-            data = np.genfromtxt(path, delimiter=",", names=True, dtype=float)
-        except (OSError, ValueError) as error:
-            raise ConfigError(f"parameters.chute_file: cannot read '{path}': {error}") from None
+        data = _read_table(path)
         names = tuple(data.dtype.names or ())
         if names not in (("x", "zeta"), ("x", "z")):
             raise ConfigError(
@@ -151,6 +194,7 @@ class TableChute(Chute):
             self._s = x
             self._angle = PchipInterpolator(x, np.radians(values), extrapolate=False)
         else:
+            x, values = binned_profile(x, values, MAX_SPLINE_ROWS)
             spline = make_smoothing_spline(x, values)
             slope = spline.derivative()
             fine = np.linspace(x[0], x[-1], 50 * x.size + 1)

@@ -22,6 +22,7 @@ from test_cli import assert_one_line_error, cli
 import conslaw
 from conslaw.config import load_scene
 from conslaw.errors import ConfigError
+from conslaw_models.chute import MAX_TABLE_BYTES
 
 #: A valid scene file; file cases replace or add lines.
 SCENE = """model = "burgers"
@@ -54,6 +55,9 @@ def table_chute(rows: str) -> tuple[list[str], dict[str, str]]:
 
 
 BadInput = tuple[str, list[str], list[str], dict[str, str | bytes]]
+
+#: Content that :func:`prepare` writes as a sparse file larger than a chute table may be.
+SPARSE_TABLE = "<sparse file above MAX_TABLE_BYTES>"
 
 
 def bad(
@@ -398,7 +402,13 @@ CASES: list[BadInput] = [
         table_chute("x,zeta\n0,40\n2,40\n1,30\n3,20\n4,10\n"),
         ["strictly increasing"],
     ),
-    bad("chute-table-empty", table_chute("x,zeta\n"), ["chute_file", "at least 5 rows"]),
+    bad("chute-table-header-only", table_chute("x,zeta\n"), ["chute_file", "at least 5 rows"]),
+    bad("chute-table-empty-file", table_chute(""), ["chute_file", "chute.csv", "is empty"]),
+    bad(
+        "chute-table-too-large",
+        table_chute(SPARSE_TABLE),
+        ["chute_file", "chute.csv", "MiB", "thin the profile"],
+    ),
     bad(
         "chute-table-hole",
         table_chute("x,zeta\n0,40\n1,\n2,30\n3,20\n4,10\n"),
@@ -471,7 +481,10 @@ def prepare(folder: Path, files: dict[str, str | bytes]) -> None:
     (folder / "earlier").mkdir()
     (folder / "earlier" / "states.npz").write_bytes(b"an earlier run's output")
     for name, content in files.items():
-        if isinstance(content, bytes):
+        if content == SPARSE_TABLE:
+            with open(folder / name, "wb") as sparse:
+                sparse.truncate(MAX_TABLE_BYTES + 1)
+        elif isinstance(content, bytes):
             (folder / name).write_bytes(content)
         else:
             (folder / name).write_text(content)

@@ -224,6 +224,31 @@ def test_table_chute_from_angles_and_from_a_terrain_profile(tmp_path: Path) -> N
     assert valley.curvature(np.array([bottom]))[0] == pytest.approx(1.0 / radius, rel=0.05)
 
 
+def test_a_long_terrain_profile_is_binned_before_the_spline(tmp_path: Path) -> None:
+    """A 100 000-row circular valley (as a DEM at 0.4 mm would give) is fitted through 2000
+    row means: the same angle and curvature as the 201-row profile above, in seconds (the
+    spline's cross-validation on every row took 140 s)."""
+    from conslaw_models.chute import MAX_SPLINE_ROWS, binned_profile
+
+    radius = 50.0
+    horizontal = np.linspace(-20.0, 20.0, 100_001)
+    z = radius - np.sqrt(radius**2 - horizontal**2)
+    binned_x, binned_z = binned_profile(horizontal, z, MAX_SPLINE_ROWS)
+    assert binned_z.size == binned_x.size and (binned_z[0], binned_z[-1]) == (z[0], z[-1])
+    assert binned_x.size == MAX_SPLINE_ROWS
+    assert (binned_x[0], binned_x[-1]) == (-20.0, 20.0)
+    assert np.all(np.diff(binned_x) > 0)
+    # Means of rows on a straight line stay on it.
+    line_x, line_z = binned_profile(horizontal, 3.0 - 0.5 * horizontal, 500)
+    np.testing.assert_allclose(line_z, 3.0 - 0.5 * line_x, atol=1e-13)
+    profile = tmp_path / "profile.csv"
+    np.savetxt(profile, np.c_[horizontal, z], delimiter=",", header="x,z", comments="")
+    valley = TableChute(profile)
+    bottom = -20.0 + radius * math.asin(20.0 / radius)
+    assert valley.zeta(np.array([bottom]))[0] == pytest.approx(0.0, abs=2e-3)
+    assert valley.curvature(np.array([bottom]))[0] == pytest.approx(1.0 / radius, rel=0.05)
+
+
 def test_terrain_example_scene_runs_from_anywhere(tmp_path: Path) -> None:
     """docs/examples: the CSV named in the scene is found next to the scene file."""
     scene = Path(__file__).resolve().parents[1] / "docs" / "examples" / "terrain-avalanche.toml"
