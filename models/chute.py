@@ -23,7 +23,10 @@ Three kinds:
 
 from __future__ import annotations
 
+import functools
 import math
+import os
+import stat
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
@@ -233,6 +236,14 @@ class TableChute(Chute):
 CHUTE_KINDS = ("plane", "paper", "table")
 
 
+@functools.lru_cache(maxsize=8)
+def _table_chute(name: str, version: tuple[str, int, int, int]) -> TableChute:
+    """The chute of the table ``name``, read and fitted once per ``version`` of the file (its
+    real path, modification time, size and inode): a scene's model is built more than once
+    (validation, the check of a Scene, the run)."""
+    return TableChute(name)
+
+
 def make_chute(
     kind: str,
     zeta: float,
@@ -262,7 +273,16 @@ def make_chute(
     if kind == "table":
         if not chute_file:
             raise ConfigError("parameters.chute_file is required with chute = 'table'")
-        return TableChute(chute_file)
+        if not isinstance(chute_file, str | Path):
+            raise ConfigError(f"parameters.chute_file: expected a file name, got {chute_file!r}")
+        try:
+            status = os.stat(chute_file)
+        except (OSError, ValueError):
+            return TableChute(chute_file)  # which names the problem
+        if not stat.S_ISREG(status.st_mode):
+            return TableChute(chute_file)
+        version = (os.path.realpath(chute_file), status.st_mtime_ns, status.st_size, status.st_ino)
+        return _table_chute(str(chute_file), version)
     raise ConfigError(
         f"parameters.chute: unknown chute '{kind}'; allowed: {', '.join(CHUTE_KINDS)}"
     )

@@ -249,6 +249,19 @@ def test_a_long_terrain_profile_is_binned_before_the_spline(tmp_path: Path) -> N
     assert valley.curvature(np.array([bottom]))[0] == pytest.approx(1.0 / radius, rel=0.05)
 
 
+def test_a_chute_table_is_read_once_per_version_of_the_file(tmp_path: Path) -> None:
+    from conslaw_models.chute import make_chute
+
+    table = tmp_path / "angles.csv"
+    table.write_text("x,zeta\n" + "\n".join(f"{x},30" for x in range(6)))
+    first = make_chute("table", 0.0, 0.0, 0.0, 0.0, str(table))
+    assert make_chute("table", 0.0, 0.0, 0.0, 0.0, str(table)) is first
+    table.write_text("x,zeta\n" + "\n".join(f"{x},20" for x in range(7)))
+    second = make_chute("table", 0.0, 0.0, 0.0, 0.0, str(table))
+    assert second is not first
+    assert np.degrees(second.zeta(np.array([2.0])))[0] == pytest.approx(20.0, abs=1e-12)
+
+
 def test_terrain_example_scene_runs_from_anywhere(tmp_path: Path) -> None:
     """docs/examples: the CSV named in the scene is found next to the scene file."""
     scene = Path(__file__).resolve().parents[1] / "docs" / "examples" / "terrain-avalanche.toml"
