@@ -61,8 +61,13 @@ def _command_list(args: argparse.Namespace) -> int:
         print(f"{titles.get(kind, kind)} ({len(names)}):")
         for name in names:
             print(f"  {name:<20} {registry.description_of(kind, name)}")
-    print(f"initial conditions ({len(INITIAL_KINDS)}):")
-    for name, (_, _, description) in INITIAL_KINDS.items():
+    own = [
+        (kind, f"{description} ({model_name} only)")
+        for model_name in registry.models.names()
+        for kind, (_, _, description) in registry.models.get(model_name).initial_kinds.items()
+    ]
+    print(f"initial conditions ({len(INITIAL_KINDS) + len(own)}):")
+    for name, description in [*((k, v[2]) for k, v in INITIAL_KINDS.items()), *own]:
         print(f"  {name:<20} {description}")
     return 0
 

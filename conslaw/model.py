@@ -50,6 +50,21 @@ class InitialData(Protocol):
     def options(self) -> Mapping[str, Any]: ...
 
 
+def parameter(default: Any, meaning: str) -> Any:
+    """A field of a model's ``Parameters`` dataclass with what it means: the symbol, unit and
+    admissible range, in one sentence. The parameter reference (docs/parameters.md) is generated
+    from these.
+
+    Parameters
+    ----------
+    default
+        The value a scene gets when it does not set the key.
+    meaning
+        One line for the reference table (markdown).
+    """
+    return dataclasses.field(default=default, metadata={"meaning": meaning})
+
+
 @dataclasses.dataclass(frozen=True)
 class NoParameters:
     """Parameter set of a model without parameters."""
@@ -77,7 +92,8 @@ class Model(ABC):
     depth_index : int or None
         Row of the depth variable for models with dry states (front tracking, Lagrangian scheme).
     Parameters : dataclass type
-        Frozen dataclass holding the physical parameters; it validates itself.
+        Frozen dataclass holding the physical parameters; it validates itself. Declare each
+        field with :func:`parameter` so that the parameter reference documents it.
     """
 
     name: ClassVar[str]

@@ -27,7 +27,7 @@ from numpy.typing import NDArray
 from conslaw.errors import ConfigError, finite_number
 from conslaw.exact import ExactSolution, Unavailable, piecewise_cell_averages
 from conslaw.grid import Grid
-from conslaw.model import InitialData
+from conslaw.model import InitialData, parameter
 from conslaw_models.chute import CHUTE_KINDS, Chute, PlaneChute, make_chute
 from conslaw_models.depth_averaged import DRY, DepthAveragedModel, velocity
 from conslaw_models.savage_hutter_exact import InclinedDamBreak, SimilaritySolution
@@ -156,18 +156,56 @@ EARTH_PRESSURE = ("savage-hutter", "isotropic")
 class SavageHutterParameters:
     """Parameters (angles in degrees). ``chute`` selects the geometry (see :mod:`chute`)."""
 
-    epsilon: float = 1.0
-    phi: float = 30.0
-    delta: float = 30.0
-    earth_pressure: str = "savage-hutter"
-    chute: str = "plane"
-    zeta: float = 40.0
-    transition_start: float = 21.5
-    transition_end: float = 25.5
-    zeta_end: float = 0.0
-    chute_file: str = ""
-    chute_extend: bool = False
-    dry_tolerance: float = 1e-10
+    epsilon: float = parameter(
+        1.0, "aspect ratio $\\varepsilon = H/L$ of the depth and length scales; > 0"
+    )
+    phi: float = parameter(
+        30.0,
+        "internal friction angle $\\phi$ in degrees, $\\delta \\le \\phi < 90$; with $\\phi > "
+        "\\delta$ the earth pressure switches between $K_{act}$ and $K_{pass}$ "
+        "([equations](equations.md))",
+    )
+    delta: float = parameter(
+        30.0, "bed friction angle $\\delta$ in degrees, $0 \\le \\delta \\le \\phi$"
+    )
+    earth_pressure: str = parameter(
+        "savage-hutter",
+        "`savage-hutter`: $K_{act}$ where the flow stretches ($u_x \\ge 0$), $K_{pass}$ where it "
+        "is compressed; `isotropic`: $K = 1$",
+    )
+    chute: str = parameter(
+        "plane",
+        "the bed: `plane` (inclination `zeta`), `paper` (Tai et al. 2001 Fig. 3: `zeta`, then "
+        "turning linearly to `zeta_end` between `transition_start` and `transition_end`), "
+        "`table` (`chute_file`)",
+    )
+    zeta: float = parameter(
+        40.0,
+        "inclination $\\zeta$ of a `plane` chute, or of the top of a `paper` one, in degrees, "
+        "in (-90, 90); positive where the bed descends in +x",
+    )
+    transition_start: float = parameter(
+        21.5, "`paper` chute: arc length $x$ where the inclination starts to fall"
+    )
+    transition_end: float = parameter(
+        25.5, "`paper` chute: arc length $x$ where it reaches `zeta_end`; > `transition_start`"
+    )
+    zeta_end: float = parameter(
+        0.0, "`paper` chute: inclination of the run-out in degrees, in (-90, 90)"
+    )
+    chute_file: str = parameter(
+        "",
+        "`table` chute: a CSV with the header `x,zeta` (arc length, degrees) or `x,z` (a "
+        "terrain profile, smoothed by a spline); relative to the scene file",
+    )
+    chute_extend: bool = parameter(
+        False,
+        "`table` chute: let the domain reach past the table, the chute continuing as planes at "
+        "the angles of its ends (else such a domain is refused)",
+    )
+    dry_tolerance: float = parameter(
+        1e-10, "depth below which a cell counts as dry (velocity 0), in [0, 1e-3)"
+    )
 
     def __post_init__(self) -> None:
         for name in ("epsilon", "phi", "delta", "dry_tolerance"):

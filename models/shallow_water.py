@@ -34,7 +34,7 @@ from numpy.typing import NDArray
 from conslaw.errors import ConfigError, finite_number
 from conslaw.exact import ExactSolution, Unavailable
 from conslaw.grid import Grid
-from conslaw.model import InitialData
+from conslaw.model import InitialData, parameter
 from conslaw_models.depth_averaged import DRY, DepthAveragedModel, velocity
 from conslaw_models.shallow_water_exact import DamBreak
 
@@ -108,11 +108,17 @@ def balanced_source_point(q_left, q_right, aux_left, aux_right, dx, params, out)
 class ShallowWaterParameters:
     """Gravity, dry tolerance and an optional Gaussian bump ``b = height exp(-((x-c)/w)^2)``."""
 
-    g: float = 1.0
-    dry_tolerance: float = 1e-10
-    bump_height: float = 0.0
-    bump_centre: float = 0.0
-    bump_width: float = 1.0
+    g: float = parameter(1.0, "gravitational acceleration $g$, > 0, in the scene's units")
+    dry_tolerance: float = parameter(
+        1e-10, "depth below which a cell counts as dry (velocity 0), in [0, 1e-3)"
+    )
+    bump_height: float = parameter(
+        0.0,
+        "height of the bed $b = $ `bump_height` $\\exp(-((x - $ `bump_centre`$)/$ `bump_width`"
+        "$)^2)$; 0 is a flat bed (no source compiled), negative a hollow",
+    )
+    bump_centre: float = parameter(0.0, "centre of the bed bump")
+    bump_width: float = parameter(1.0, "width of the bed bump, > 0")
 
     def __post_init__(self) -> None:
         for name in ("g", "dry_tolerance", "bump_height", "bump_centre", "bump_width"):
@@ -147,7 +153,7 @@ class ShallowWater(DepthAveragedModel):
         "still-water": (
             ("surface",),
             {"velocity": 0.0},
-            "h = max(surface - bed, 0), hu = h * velocity (shallow water)",
+            "h = max(surface - bed, 0), hu = h * velocity",
         ),
     }
     flux_point = staticmethod(flux_point)

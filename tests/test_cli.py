@@ -58,6 +58,10 @@ def test_list_shows_every_registered_name() -> None:
         "lake-at-rest",
     ):
         assert f"  {scene} " in out
+    assert "initial conditions (4):" in out
+    for kind in ("piecewise-constant", "sine", "parabolic-cap", "still-water"):
+        assert f"  {kind} " in out
+    assert "(savage-hutter only)" in out
 
 
 def test_run_writes_npz_resolved_toml_and_png(tmp_path: Path) -> None:
