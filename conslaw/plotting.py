@@ -22,16 +22,42 @@ if TYPE_CHECKING:
     from conslaw.result import RunResult
 
 
-def _display_rows(model: Any, q: Any) -> list[tuple[str, Any]]:
-    """What to plot: the conserved variables, or depth and velocity for depth-averaged models."""
+def _display_rows(model: Any, q: Any, film: float = 0.0) -> list[tuple[str, Any]]:
+    """What to plot: the conserved variables, or depth and velocity for depth-averaged models.
+    The velocity is left out (NaN) where the depth is below ``film`` times the largest depth:
+    the thin film a flow leaves behind moves, but its velocity says nothing about the body."""
     d, m = model.depth_index, model.momentum_index
     if d is None or m is None:
         return [(name, q[v]) for v, name in enumerate(model.variables)]
     h = q[d]
-    wet = h > max(model.dry_depth(), 1e-12)
+    deepest = float(np.max(h)) if h.size else 0.0
+    wet = h > max(model.dry_depth(), 1e-12, film * deepest)
     u = np.full_like(h, np.nan)
     u[wet] = q[m][wet] / h[wet]
     return [(model.variables[d], h), ("u", u)]
+
+
+def axis_label(model: Any, name: str, lines: int = 1) -> str:
+    """``name`` with what it is, from the model's long names (``h: depth ...``); with
+    ``lines = 2`` (a y axis) the long name goes on a second line, without "(dimensionless)"
+    (the x axis says it for the whole figure)."""
+    long_name = model.long_names.get(name)
+    if not long_name:
+        return name
+    if lines == 2:
+        return f"{name}\n{long_name.replace(' (dimensionless)', '')}"
+    return f"{name}: {long_name}"
+
+
+#: Velocities are drawn where the depth is at least this fraction of the largest depth.
+FILM_FRACTION = 1e-3
+#: The colours of successive output times: a sequential map whose ends stay apart.
+TIME_COLOURS = "plasma"
+
+
+def time_colours(count: int) -> Any:
+    """``count`` colours for output times in order, dark to light."""
+    return matplotlib.colormaps[TIME_COLOURS](np.linspace(0.0, 0.88, count))
 
 
 #: Output times from which ``conslaw run`` also draws the x–t diagram (``xt.png``).
@@ -60,43 +86,51 @@ def select_states(
 def profiles_figure(result: RunResult, times: Sequence[float] | None = None) -> Any:
     """Profiles at the output times (markers) against the exact solution (black line):
     the conserved variables, or depth and velocity for a depth-averaged model (paper Figs. 4
-    and 5). ``times`` selects the output times drawn (see :func:`select_states`)."""
+    and 5). ``times`` selects the output times drawn (see :func:`select_states`). The axes say
+    what each quantity is (the model's long names, with its scales), the chute's features
+    (a curved transition) are shaded, and the title says whether an exact solution is drawn."""
     model = result.model
     rows = len(_display_rows(model, result.states[0].q))
     figure = Figure(figsize=(8, 3.2 * rows))
     axes = figure.subplots(rows, 1, sharex=True, squeeze=False)
     shown = select_states(result, times)
-    colours = matplotlib.colormaps["viridis"](np.linspace(0.0, 0.85, len(shown)))
     fine = np.linspace(result.grid.x_min, result.grid.x_max, 4001)
     # Open circles as in the paper where the cells can be told apart, dots on fine grids.
     coarse = result.grid.n_cells <= COARSE_GRID
     marker = {"ms": 4.5, "mfc": "none", "mew": 0.9} if coarse else {"ms": 2.5}
-    for state, colour in zip(shown, colours, strict=True):
-        label = f"{result.scene.scheme}, t={state.t:g}"
-        for axis, (name, values) in zip(axes[:, 0], _display_rows(model, state.q), strict=True):
-            axis.plot(state.x, values, "o", color=colour, label=label, **marker)
-            axis.set_ylabel(name)
+    for state, colour in zip(shown, time_colours(len(shown)), strict=True):
+        rows_now = _display_rows(model, state.q, FILM_FRACTION)
+        for axis, (name, values) in zip(axes[:, 0], rows_now, strict=True):
+            axis.plot(state.x, values, "o", color=colour, label=f"t = {state.t:g}", **marker)
+            axis.set_ylabel(axis_label(model, name, lines=2), fontsize=8.5)
         if result.exact_solution is not None:
             exact = result.exact_solution.point_values(fine, state.t)
             with np.errstate(invalid="ignore", divide="ignore"):
                 exact_rows = _display_rows(model, exact)
             for axis, (_, values) in zip(axes[:, 0], exact_rows, strict=True):
-                axis.plot(
-                    fine,
-                    values,
-                    "k-",
-                    lw=0.9,
-                    label="exact" if state is shown[-1] else None,
-                )
+                axis.plot(fine, values, "k-", lw=0.9, label="exact" if state is shown[-1] else None)
+    chute = getattr(model, "chute", None)
+    for start, end, label in chute.features() if chute is not None else []:
+        for axis in axes[:, 0]:
+            axis.axvspan(start, end, color="0.85", zorder=0, lw=0)
+        axes[0, 0].text(
+            0.5 * (start + end), 0.98, label, transform=axes[0, 0].get_xaxis_transform(),
+            ha="center", va="top", fontsize=8, color="0.35",
+        )  # fmt: skip
     for axis in axes[:, 0]:
         axis.grid(alpha=0.3)
     axes[0, 0].legend(fontsize=8, loc="best")
-    axes[-1, 0].set_xlabel("x")
+    axes[-1, 0].set_xlabel(axis_label(model, "x"), fontsize=9)
     error = result.headline_error()
-    subtitle = f", L1 error {error:.3e}" if error is not None else ""
+    tracked = result.scene.front_tracking
+    if result.exact_solution is not None:
+        subtitle = f", L1 error {error:.3e}" if error is not None else ", exact solution: line"
+    else:
+        subtitle = " (no exact solution for this scene)"
     axes[0, 0].set_title(
-        f"{result.scene.name}: {model.name}, {result.scene.reconstructor_label}"
-        f"{' + front tracking' if result.scene.front_tracking else ''}, "
+        f"{result.scene.name}: {model.name}, {result.scene.scheme}, "
+        f"{result.scene.reconstructor_label}"
+        f"{' + front tracking' if tracked and 'front' not in result.scene.scheme else ''}, "
         f"N={result.grid.n_cells}{subtitle}",
         fontsize=10,
     )
@@ -108,33 +142,53 @@ def chute_figure(
     result: RunResult, times: Sequence[float] | None = None, exaggeration: float = 3.0
 ) -> Any:
     """Paper Fig. 3 style: one panel per output time (``times``, see :func:`select_states`),
-    the chute drawn in elevation (not arc length) and the flowing mass on it, its depth laid off
-    normal to the bed and exaggerated by ``exaggeration`` so that it is visible."""
+    the chute drawn in elevation (not arc length) at equal aspect, so that its angles are the
+    true ones, and the flowing mass on it, its depth laid off normal to the bed and exaggerated
+    by ``exaggeration`` so that it is visible. Panels are laid out in up to three columns."""
     model = result.model
     chute = getattr(model, "chute")  # noqa: B009 (only models with a chute get this figure)
     x = result.grid.centres()
     horizontal, vertical = chute.elevation_profile(x)
     angle = chute.zeta(x)
     shown = select_states(result, times)
-    count = len(shown)
-    figure = Figure(figsize=(9, 1.6 * count))
-    axes = figure.subplots(count, 1, sharex=True, squeeze=False)
-    for axis, state in zip(axes[:, 0], shown, strict=True):
+    tops = []
+    for state in shown:
         h = exaggeration * state.q[model.depth_index]
-        top_x = horizontal - h * np.sin(angle)
-        top_z = vertical + h * np.cos(angle)
+        tops.append((horizontal - h * np.sin(angle), vertical + h * np.cos(angle)))
+    left = min(horizontal.min(), *(top[0].min() for top in tops))
+    right = max(horizontal.max(), *(top[0].max() for top in tops))
+    bottom = min(vertical.min(), *(top[1].min() for top in tops))
+    top_edge = max(vertical.max(), *(top[1].max() for top in tops))
+    margin = 0.03 * max(right - left, top_edge - bottom)
+    width, height = right - left + 2 * margin, top_edge - bottom + 2 * margin
+    count = len(shown)
+    columns = 1 if count == 1 else (2 if count <= 4 or height > 0.6 * width else 3)
+    rows = -(-count // columns)
+    figure_width = 10.0 if columns > 1 else 7.0
+    panel_width = (figure_width - 1.0) / columns
+    panel_height = min(max(panel_width * height / width, 0.9), 6.0)
+    figure = Figure(figsize=(figure_width, rows * (panel_height + 0.5) + 0.4))
+    axes = figure.subplots(rows, columns, sharex=True, sharey=True, squeeze=False)
+    for axis in axes.flat[count:]:
+        axis.set_visible(False)
+    for axis, state, (top_x, top_z) in zip(axes.flat, shown, tops, strict=False):
         axis.plot(horizontal, vertical, "k-", lw=1.0)
         axis.fill(
             np.concatenate([horizontal, top_x[::-1]]),
             np.concatenate([vertical, top_z[::-1]]),
-            color="tab:orange", alpha=0.8, lw=0,
+            color="tab:orange", alpha=0.85, lw=0,
         )  # fmt: skip
-        axis.set_ylabel("z")
-        axis.text(0.98, 0.85, f"t = {state.t:g}", transform=axis.transAxes, ha="right", fontsize=9)
-    axes[-1, 0].set_xlabel("horizontal position")
-    axes[0, 0].set_title(
+        axis.set_aspect("equal", adjustable="box")
+        axis.set_xlim(left - margin, right + margin)
+        axis.set_ylim(bottom - margin, top_edge + margin)
+        axis.text(0.98, 0.9, f"t = {state.t:g}", transform=axis.transAxes, ha="right", fontsize=9)
+    for axis in axes[:, 0]:
+        axis.set_ylabel("elevation", fontsize=9)
+    for axis in axes[-1, :]:
+        axis.set_xlabel("horizontal position", fontsize=9)
+    figure.suptitle(
         f"{result.scene.name}: {model.name}, {result.scene.reconstructor_label}, "
-        f"N={result.grid.n_cells} (depth drawn x{exaggeration:g}, normal to the bed)",
+        f"N={result.grid.n_cells}\nequal scales; depth drawn x{exaggeration:g}, normal to the bed",
         fontsize=10,
     )
     figure.tight_layout()

@@ -55,6 +55,10 @@ class Chute:
         chute given by a formula covers every x)."""
         return None
 
+    def features(self) -> list[tuple[float, float, str]]:
+        """Stretches of arc length worth marking in a figure: ``(start, end, label)``."""
+        return []
+
     def elevation_profile(self, x: Array) -> tuple[Array, Array]:
         """Horizontal position and elevation of the bed at arc lengths x (for drawing), from
         ``dX/dx = cos zeta``, ``dZ/dx = -sin zeta`` integrated from ``x[0]`` (trapezoid rule on a
@@ -100,6 +104,10 @@ class PaperChute(Chute):
     transition_start: float
     transition_end: float
     angle_end: float
+
+    def features(self) -> list[tuple[float, float, str]]:
+        """The curved transition between the two planes."""
+        return [(self.transition_start, self.transition_end, "curved transition")]
 
     def zeta(self, x: Array) -> Array:
         return np.interp(

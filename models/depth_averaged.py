@@ -53,6 +53,7 @@ class DepthAveragedModel(Model):
         "t": "time",
         "h": "depth",
         "hu": "depth times depth-averaged velocity",
+        "u": "depth-averaged velocity",
     }
     reflect_signs: ClassVar[tuple[float, ...]] = (1.0, -1.0)
     depth_index: ClassVar[int | None] = 0

@@ -263,6 +263,7 @@ class SavageHutter(DepthAveragedModel):
         "t": "time / (L/g)^(1/2) (dimensionless)",
         "h": "depth normal to the bed / H (dimensionless)",
         "hu": "depth times depth-averaged velocity / (H (g L)^(1/2)) (dimensionless)",
+        "u": "depth-averaged velocity / (g L)^(1/2) (dimensionless)",
     }
     aux_names = ("sin_zeta", "cos_zeta", "lambda_kappa", "K")
     aux_reflect_signs = (-1.0, 1.0, 1.0, 1.0)
