@@ -39,6 +39,7 @@ DEFAULTS: dict[str, Any] = {
     "x_max": REQUIRED,
     "t_end": REQUIRED,
     "output_times": [],
+    "output_interval": 0.0,
     "exact": True,
     "max_steps": 100_000_000,
     "boundary": {"left": "outflow", "right": "outflow"},
@@ -65,6 +66,8 @@ KEY_HELP: dict[str, str] = {
     "x_max": "right end of the domain",
     "t_end": "final time",
     "output_times": "times (<= t_end) at which states are saved; t_end is always saved",
+    "output_interval": "> 0: also save every output_interval from t = 0 (0, dt, 2 dt, ... <= "
+    "t_end; at most 10000 times); 0: only output_times",
     "exact": "compare with the model's exact solution when it has one",
     "max_steps": "stop the run with an error once it has taken more time steps than this "
     "before t_end (integer >= 1; checked at every progress report: nessyahu-tadmor every "
@@ -379,10 +382,38 @@ def _domain(table: Mapping[str, Any]) -> tuple[float, int, float, float, float, 
         raise ConfigError(
             f"scene key 'output_times': expected a list of numbers, got {times_raw!r}"
         )
-    times = sorted({_number({"output_times": t}, "output_times") for t in times_raw} | {t_end})
+    times = sorted(
+        {_number({"output_times": t}, "output_times") for t in times_raw}
+        | {t_end}
+        | set(interval_times(_number(table, "output_interval"), t_end))
+    )
     if times[0] < 0.0 or times[-1] > t_end:
         raise ConfigError(f"scene key 'output_times': every time must be in [0, t_end={t_end}]")
     return cfl, n_cells, x_min, x_max, t_end, times
+
+
+#: Most output times an ``output_interval`` may give.
+MAX_INTERVAL_TIMES = 10_000
+
+
+def interval_times(interval: float, t_end: float) -> list[float]:
+    """The output times of ``output_interval``: ``k * interval`` for ``k = 0, 1, ...`` up to
+    ``t_end`` (a time within 1e-9 interval of ``t_end`` is ``t_end`` itself); none for 0."""
+    if interval == 0.0:
+        return []
+    if interval < 0.0:
+        raise ConfigError(
+            f"scene key 'output_interval': must be > 0 (or 0 for none), got {interval}"
+        )
+    count = math.floor(t_end / interval * (1.0 + 1e-12) + 1e-9)
+    if count + 1 > MAX_INTERVAL_TIMES:
+        raise ConfigError(
+            f"scene key 'output_interval': {interval} gives {count + 1:.3g} output times up to "
+            f"t_end={t_end}; at most {MAX_INTERVAL_TIMES}"
+        )
+    # Twelve significant digits: 3 * 0.1 is the output time 0.3, not 0.30000000000000004.
+    times = [float(f"{k * interval:.12g}") for k in range(count + 1)]
+    return [float(t_end) if abs(t - t_end) <= 1e-9 * interval else t for t in times if t <= t_end]
 
 
 def _scheme_with_front_tracking(

@@ -447,6 +447,14 @@ CASES: list[BadInput] = [
         ["output directory", "blocker"],
         {"blocker": "keep me"},
     ),
+    bad("output-interval-negative", [*RIEMANN, "output_interval=-1"], ["output_interval", "> 0"]),
+    bad(
+        "output-interval-too-fine",
+        [*RIEMANN, "output_interval=1e-300"],
+        ["output_interval", "output times", "at most 10000"],
+    ),
+    bad("output-interval-nan", [*RIEMANN, "output_interval=nan"], ["output_interval"]),
+    bad("output-interval-a-word", [*RIEMANN, "output_interval=often"], ["output_interval"]),
     bad(
         "convergence-bad-cells",
         ["convergence", "dam-break-wet", "--cells", "10,abc"],

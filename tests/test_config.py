@@ -124,3 +124,26 @@ def test_a_scene_replaced_with_the_flag_runs_front_tracking() -> None:
     assert scheme.name == "front-tracking" and initial.margins is not None
     with pytest.raises(ConfigError, match="contradicts"):
         build(dataclasses.replace(load_scene("sh-similarity-ft"), front_tracking=False))
+
+
+@pytest.mark.parametrize(
+    ("interval", "t_end", "times"),
+    [
+        (0.1, 1.0, [0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0]),
+        (0.3, 1.0, [0.0, 0.3, 0.6, 0.9, 1.0]),
+        (1.0 / 3.0, 1.0, [0.0, 0.333333333333, 0.666666666667, 1.0]),
+        (5.0, 2.0, [0.0, 2.0]),
+    ],
+)
+def test_an_output_interval_adds_evenly_spaced_times(
+    interval: float, t_end: float, times: list[float]
+) -> None:
+    scene = load_scene("burgers-sine", {"output_interval": interval, "t_end": t_end})
+    assert list(scene.output_times) == times
+
+
+def test_an_output_interval_merges_with_the_listed_times() -> None:
+    scene = load_scene(
+        "burgers-sine", {"output_interval": 0.1, "t_end": 0.3, "output_times": [0.15]}
+    )
+    assert list(scene.output_times) == [0.0, 0.1, 0.15, 0.2, 0.3]
