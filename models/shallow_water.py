@@ -36,7 +36,7 @@ from conslaw.exact import ExactSolution, Unavailable
 from conslaw.grid import Grid
 from conslaw.model import InitialData, parameter
 from conslaw_models.depth_averaged import DRY, DepthAveragedModel, velocity
-from conslaw_models.shallow_water_exact import DamBreak
+from conslaw_models.shallow_water_exact import DamBreak, StillWater
 
 Array = NDArray[np.float64]
 
@@ -222,7 +222,17 @@ class ShallowWater(DepthAveragedModel):
         self, initial: InitialData, grid: Grid, context: Mapping[str, Any]
     ) -> ExactSolution | None:
         """Stoker/Ritter for one jump between two states at rest on a flat bed, with outflow
-        boundaries that no wave reaches by ``t_end``; else None or Unavailable."""
+        boundaries that no wave reaches by ``t_end``; still water at rest over the bed between
+        walls; else None or Unavailable."""
+        if initial.kind == "still-water":
+            if initial.options["velocity"] != 0.0:
+                return None
+            if (context["left"], context["right"]) != ("wall", "wall"):
+                raise Unavailable("still water stays still between walls only")
+            p = self.params
+            return StillWater(
+                float(initial.options["surface"]), p.bump_height, p.bump_centre, p.bump_width
+            )
         if initial.kind != "piecewise-constant" or self.has_bed:
             return None
         dam = DamBreak.from_initial(initial, self.params.g)

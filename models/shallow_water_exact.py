@@ -140,3 +140,39 @@ class DamBreak(ExactSolution):
         if self._mirrored:
             low, high = -high, -low
         return self.x0 + low, self.x0 + high
+
+
+@dataclass(frozen=True)
+class StillWater(ExactSolution):
+    """Water at rest over the bed ``b(x) = height exp(-((x - centre)/width)^2)``: a flat surface
+    where the bed is below it, dry land where it is above, ``h = max(surface - b, 0)``,
+    ``u = 0``, for all time (docs/equations.md, "Exact solutions"). Cell averages split at the
+    shorelines ``b(x) = surface``."""
+
+    surface: float
+    height: float
+    centre: float
+    width: float
+
+    def bed(self, x: Array) -> Array:
+        """The bed elevation."""
+        return self.height * np.exp(-(((np.asarray(x) - self.centre) / self.width) ** 2))
+
+    def shorelines(self) -> list[float]:
+        """Where the bed meets the surface (none if it stays below or above it)."""
+        ratio = self.height / self.surface if self.surface != 0.0 else math.inf
+        if not ratio > 1.0:
+            return []
+        offset = self.width * math.sqrt(math.log(ratio))
+        return [self.centre - offset, self.centre + offset]
+
+    def _values(self, x: Array) -> Array:
+        depth = np.maximum(self.surface - self.bed(x), 0.0)
+        return np.vstack([depth, np.zeros_like(depth)])
+
+    def cell_averages(self, edges: Array, t: float) -> Array:
+        lines = self.shorelines()
+        return piecewise_cell_averages(edges, np.array(lines), [self._values] * (len(lines) + 1))
+
+    def point_values(self, x: Array, t: float) -> Array:
+        return self._values(np.asarray(x, dtype=np.float64))
