@@ -232,7 +232,16 @@ def _run_scene(scene: Scene, out: Path, writer: RunWriter) -> int:
         print(f"  no comparison with an exact solution: {result.exact_note}")
     rows = result.model.conserved_rows()
     if rows:
-        drift = ", ".join(f"{result.model.variables[v]} {result.mass_drift[v]:+.2e}" for v in rows)
+        import numpy as np
+
+        # Relative to the total's size at t=0; a variable that is 0 everywhere at t=0 (the
+        # momentum of a dam break) has no size to compare with: its change is absolute.
+        started_empty = ~np.any(result.initial.q, axis=1)
+        drift = ", ".join(
+            f"{result.model.variables[v]} {result.mass_drift[v]:+.2e}"
+            + (" (absolute: 0 at t=0)" if started_empty[v] else "")
+            for v in rows
+        )
         closed = {scene.left.kind, scene.right.kind} <= {"periodic", "wall"}
         where = (
             "closed domain: round-off only"
@@ -240,12 +249,33 @@ def _run_scene(scene: Scene, out: Path, writer: RunWriter) -> int:
             else "open boundaries: what flowed in or out, not a conservation error"
         )
         print(f"  relative change of conserved totals from t=0 ({where}): {drift}")
+    rest = _rest_note(result)
+    if rest is not None:
+        print(f"  {rest}")
     note = result.outflow_fed_note()
     if note is not None:
         print(f"  note: {note}")
     for path in files:
         print(f"  wrote {path}")
     return 0
+
+
+def _rest_note(result: Any) -> str | None:
+    """For a model with a momentum: whether the material is at rest at the end (every
+    momentum exactly 0), or the largest momentum, when the run ends with less than a
+    thousandth of the largest momentum it saved (coming to rest, or held)."""
+    import numpy as np
+
+    row = result.model.momentum_index
+    if row is None:
+        return None
+    largest = max(float(np.abs(state.q[row]).max()) for state in result.states)
+    final = float(np.abs(result.final.q[row]).max())
+    if final == 0.0:
+        return f"at rest at t={result.final.t:g}: every momentum is exactly 0"
+    if largest > 0.0 and final < 1e-3 * largest:
+        return f"largest |{result.model.variables[row]}| at t={result.final.t:g}: {final:.2e}"
+    return None
 
 
 def _names(text: str | None) -> list[str] | None:

@@ -7,6 +7,7 @@ A scene names only what it needs; :data:`DEFAULTS` fills the rest. Unknown keys 
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import tomllib
 from collections.abc import Mapping
@@ -125,6 +126,8 @@ class Scene:
     front_tracking: bool = False
     scheme_options: Mapping[str, Any] = field(default_factory=dict)
     max_steps: int = DEFAULTS["max_steps"]
+    #: The scene file it was read from ("" for a scene built in Python).
+    source_file: str = ""
 
     @property
     def scheme_label(self) -> str:
@@ -525,7 +528,19 @@ def load_scene(name_or_path: str | Path, overrides: Mapping[str, Any] | None = N
     """Read, override and validate a scene (a built-in name or a ``.toml`` path)."""
     name, path = scene_path(name_or_path)
     raw = read_scene_file(path)
-    return validate(name, apply_overrides(raw, overrides or {}), path.parent)
+    table = apply_overrides(raw, overrides or {})
+    if overrides and "description" not in overrides:
+        table["description"] = described_with(str(raw.get("description", "")), overrides)
+    return dataclasses.replace(validate(name, table, path.parent), source_file=str(path))
+
+
+def described_with(description: str, overrides: Mapping[str, Any]) -> str:
+    """A scene's description with what the overrides changed, so that the ``scene.toml``
+    written next to the output does not describe a scene that was not run."""
+    changed = ", ".join(
+        f"{key}={value!r}"[:60] for key, value in overrides.items() if key != "description"
+    )
+    return f"{description} [changed: {changed}]" if description else f"[changed: {changed}]"
 
 
 def parse_scheme_spec(spec: str) -> tuple[str, dict[str, Any]]:

@@ -38,6 +38,7 @@ Every run also writes ``scene.toml`` (the resolved scene) with its first output,
 
 from __future__ import annotations
 
+import contextlib
 import errno
 import io
 import os
@@ -62,6 +63,7 @@ except ImportError:  # Windows: no advisory locks, a folder is not claimed
 
 from conslaw import tomlwrite
 from conslaw.errors import ConfigError, OutputError
+from conslaw.provenance import as_json, record, toml_comment
 from conslaw.state import node_arrays
 
 if TYPE_CHECKING:
@@ -297,7 +299,9 @@ def write_states(path: Path, result: RunResult, compressed: bool = True) -> Path
     return atomic_write_bytes(path, states_bytes(result, compressed))
 
 
-def states_bytes(result: RunResult, compressed: bool = True) -> bytes:
+def states_bytes(
+    result: RunResult, compressed: bool = True, provenance: dict[str, str] | None = None
+) -> bytes:
     """``states.npz`` of the outputs so far (``compressed=False``: stored without compression,
     as during a run, where it is rewritten at every output time).
 
@@ -307,8 +311,11 @@ def states_bytes(result: RunResult, compressed: bool = True) -> bytes:
     that does not exist); with the Lagrangian scheme also its own mesh at the output times:
     ``nodes`` and ``node_velocities`` (n_out, n_elements + 1) and ``element_depths``
     (n_out, n_elements) (``q`` is then the conservative projection of the elements onto the
-    grid).
+    grid). ``provenance`` (default: :func:`conslaw.provenance.record` of the run's scene) is
+    stored as the JSON string ``provenance``.
     """
+    if provenance is None:
+        provenance = record(result.scene)
     exact = np.array(
         [
             e if e is not None else np.full_like(s.q, np.nan)
@@ -323,6 +330,7 @@ def states_bytes(result: RunResult, compressed: bool = True) -> bytes:
         q=np.array([s.q for s in result.states]),
         q_exact=exact,
         variables=np.array(result.model.variables),
+        provenance=np.array(as_json(provenance)),
         **({} if result.margins is None else {"margins": result.margins}),
         **node_arrays(result.states),
     )
@@ -499,6 +507,15 @@ class RunWriter:
         self._mesh: tuple[Array, NDArray[np.int64]] | None = None
         self._xdmf: list[tuple[float, str, list[str], dict[str, float]]] = []
         self._pvd: list[tuple[float, str]] = []
+        self._provenance: dict[str, str] | None = None
+
+    @property
+    def provenance(self) -> dict[str, str]:
+        """What made the run and what it read (:mod:`conslaw.provenance`), taken once, at the
+        first output."""
+        if self._provenance is None:
+            self._provenance = record(self.scene)
+        return self._provenance
 
     @property
     def files(self) -> list[Path]:
@@ -537,6 +554,18 @@ class RunWriter:
             self._finalizer()  # closes the descriptor once
             self._claim = None
 
+    def scene_bytes(self) -> bytes:
+        """``scene.toml``: the provenance as comment lines, then the resolved scene, with input
+        files named relative to the output folder (so that the folder and its inputs can move
+        together and the scene still runs from it)."""
+        table = self.scene.to_table()
+        for key, value in table["parameters"].items():
+            if key.endswith("_file") and isinstance(value, str) and Path(value).is_absolute():
+                # On another drive (Windows) relpath fails: the absolute path stays.
+                with contextlib.suppress(ValueError):
+                    table["parameters"][key] = os.path.relpath(value, self.folder.resolve())
+        return toml_comment(self.provenance).encode() + toml_bytes(table)
+
     def _wrote(self, path: Path) -> None:
         self._files.pop(path, None)
         self._files[path] = None
@@ -565,7 +594,7 @@ class RunWriter:
             try:
                 self._check_folder()
                 if first:
-                    commit.put(self.folder / "scene.toml", toml_bytes(self.scene.to_table()))
+                    commit.put(self.folder / "scene.toml", self.scene_bytes())
                     self._wrote(self.folder / "scene.toml")
                 self.output(result, index, commit)
                 if history:
@@ -650,7 +679,7 @@ class RunWriter:
         number of outputs times the grid, so for very many output times of a large grid prefer
         xdmf or vtu, whose cost per output is fixed), compressed once at the end (``final``)."""
         if "npz" in self.formats:
-            data = states_bytes(result, compressed=final)
+            data = states_bytes(result, compressed=final, provenance=self.provenance)
             self._wrote(commit.put(self.folder / "states.npz", data))
         if "csv" in self.formats and result.margins is not None:
             data = margins_csv_bytes(result.margins)

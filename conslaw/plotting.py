@@ -84,31 +84,43 @@ def select_states(
 
 
 def profiles_figure(result: RunResult, times: Sequence[float] | None = None) -> Any:
-    """Profiles at the output times (markers) against the exact solution (black line):
-    the conserved variables, or depth and velocity for a depth-averaged model (paper Figs. 4
-    and 5). ``times`` selects the output times drawn (see :func:`select_states`). The axes say
-    what each quantity is (the model's long names, with its scales), the chute's features
-    (a curved transition) are shaded, and the title says whether an exact solution is drawn."""
+    """Profiles at the output times against the exact solution (black dashed line): the
+    conserved variables, or depth and velocity for a depth-averaged model (paper Figs. 4 and
+    5). ``times`` selects the output times drawn (see :func:`select_states`); the initial
+    state is drawn in grey when it is not one of them. The axes say what each quantity is (the
+    model's long names, with its scales), the chute's features (a curved transition) are
+    shaded, and the title says which error is shown, or that there is no exact solution, and
+    how many of the output times are drawn."""
     model = result.model
     rows = len(_display_rows(model, result.states[0].q))
     figure = Figure(figsize=(8, 3.2 * rows))
     axes = figure.subplots(rows, 1, sharex=True, squeeze=False)
     shown = select_states(result, times)
     fine = np.linspace(result.grid.x_min, result.grid.x_max, 4001)
-    # Open circles as in the paper where the cells can be told apart, dots on fine grids.
+    # Open circles as in the paper where the cells can be told apart, lines on fine grids.
     coarse = result.grid.n_cells <= COARSE_GRID
-    marker = {"ms": 4.5, "mfc": "none", "mew": 0.9} if coarse else {"ms": 2.5}
+    style = ("o", {"ms": 4.5, "mfc": "none", "mew": 0.9}) if coarse else ("-", {"lw": 1.4})
+    if all(state.t != result.initial.t for state in shown):
+        rows_then = _display_rows(model, result.initial.q, FILM_FRACTION)
+        for axis, (_, values) in zip(axes[:, 0], rows_then, strict=True):
+            axis.plot(
+                result.initial.x, values, "-", color="0.6", lw=1.0,
+                label=f"t = {result.initial.t:g} (initial)",
+            )  # fmt: skip
     for state, colour in zip(shown, time_colours(len(shown)), strict=True):
         rows_now = _display_rows(model, state.q, FILM_FRACTION)
         for axis, (name, values) in zip(axes[:, 0], rows_now, strict=True):
-            axis.plot(state.x, values, "o", color=colour, label=f"t = {state.t:g}", **marker)
+            axis.plot(state.x, values, style[0], color=colour, label=f"t = {state.t:g}", **style[1])
             axis.set_ylabel(axis_label(model, name, lines=2), fontsize=8.5)
         if result.exact_solution is not None:
             exact = result.exact_solution.point_values(fine, state.t)
             with np.errstate(invalid="ignore", divide="ignore"):
                 exact_rows = _display_rows(model, exact)
             for axis, (_, values) in zip(axes[:, 0], exact_rows, strict=True):
-                axis.plot(fine, values, "k-", lw=0.9, label="exact" if state is shown[-1] else None)
+                axis.plot(
+                    fine, values, "k--", lw=0.9, zorder=3,
+                    label="exact" if state is shown[-1] else None,
+                )  # fmt: skip
     chute = getattr(model, "chute", None)
     for start, end, label in chute.features() if chute is not None else []:
         for axis in axes[:, 0]:
@@ -121,21 +133,47 @@ def profiles_figure(result: RunResult, times: Sequence[float] | None = None) -> 
         axis.grid(alpha=0.3)
     axes[0, 0].legend(fontsize=8, loc="best")
     axes[-1, 0].set_xlabel(axis_label(model, "x"), fontsize=9)
-    error = result.headline_error()
-    tracked = result.scene.front_tracking
-    if result.exact_solution is not None:
-        subtitle = f", L1 error {error:.3e}" if error is not None else ", exact solution: line"
-    else:
-        subtitle = " (no exact solution for this scene)"
+    if model.depth_index is not None and model.momentum_index is not None:
+        axes[-1, 0].text(
+            0.01, 0.02, f"u drawn where h >= {FILM_FRACTION:g} x the largest depth",
+            transform=axes[-1, 0].transAxes, fontsize=7, color="0.4",
+        )  # fmt: skip
     axes[0, 0].set_title(
-        f"{result.scene.name}: {model.name}, {result.scene.scheme}, "
-        f"{result.scene.reconstructor_label}"
-        f"{' + front tracking' if tracked and 'front' not in result.scene.scheme else ''}, "
-        f"N={result.grid.n_cells}{subtitle}",
+        f"{result.scene.name}: {run_label(result)}\n{_error_label(result)}"
+        f"{_times_label(result, shown)}",
         fontsize=10,
     )
     figure.tight_layout()
     return figure
+
+
+def run_label(result: RunResult) -> str:
+    """Model, scheme (with its options), reconstructor where the scheme uses one, and grid."""
+    scene = result.scene
+    parts = [result.model.name, scene.scheme_label]
+    if scene.reconstructor_label != "-":
+        parts.append(scene.reconstructor_label)
+    if scene.front_tracking and "front" not in scene.scheme:
+        parts.append("front tracking")
+    return ", ".join(parts) + f", N={result.grid.n_cells}"
+
+
+def _error_label(result: RunResult) -> str:
+    """What the title says about the exact solution."""
+    if result.exact_solution is None:
+        return "no exact solution for this scene"
+    error = result.headline_error()
+    if error is None:
+        return "exact solution: dashed line"
+    name = result.model.variables[0]
+    return f"L1({name}) at t = {result.final.t:g}: {error:.3e}; exact: dashed line"
+
+
+def _times_label(result: RunResult, shown: Sequence[Any]) -> str:
+    """``; 6 of 8 output times drawn`` when some are left out."""
+    if len(shown) < len(result.states):
+        return f"; {len(shown)} of {len(result.states)} output times drawn"
+    return ""
 
 
 def chute_figure(
@@ -143,18 +181,25 @@ def chute_figure(
 ) -> Any:
     """Paper Fig. 3 style: one panel per output time (``times``, see :func:`select_states`),
     the chute drawn in elevation (not arc length) at equal aspect, so that its angles are the
-    true ones, and the flowing mass on it, its depth laid off normal to the bed and exaggerated
-    by ``exaggeration`` so that it is visible. Panels are laid out in up to three columns."""
+    true ones, and the flowing mass on it, its depth laid off along the bed's upward normal
+    ``(sin zeta, cos zeta)`` in the units of length (a depth ``h`` in units of ``H`` is
+    ``epsilon h`` lengths ``L``), exaggerated by ``exaggeration`` so that it is visible. The
+    point of arc length 0 is the origin when the domain holds it. Panels are laid out in up to
+    three columns."""
     model = result.model
     chute = getattr(model, "chute")  # noqa: B009 (only models with a chute get this figure)
     x = result.grid.centres()
     horizontal, vertical = chute.elevation_profile(x)
+    if x[0] <= 0.0 <= x[-1]:
+        horizontal = horizontal - np.interp(0.0, x, horizontal)
+        vertical = vertical - np.interp(0.0, x, vertical)
     angle = chute.zeta(x)
+    scale = exaggeration * float(getattr(model.params, "epsilon", 1.0))
     shown = select_states(result, times)
     tops = []
     for state in shown:
-        h = exaggeration * state.q[model.depth_index]
-        tops.append((horizontal - h * np.sin(angle), vertical + h * np.cos(angle)))
+        h = scale * state.q[model.depth_index]
+        tops.append((horizontal + h * np.sin(angle), vertical + h * np.cos(angle)))
     left = min(horizontal.min(), *(top[0].min() for top in tops))
     right = max(horizontal.max(), *(top[0].max() for top in tops))
     bottom = min(vertical.min(), *(top[1].min() for top in tops))
@@ -167,7 +212,7 @@ def chute_figure(
     figure_width = 10.0 if columns > 1 else 7.0
     panel_width = (figure_width - 1.0) / columns
     panel_height = min(max(panel_width * height / width, 0.9), 6.0)
-    figure = Figure(figsize=(figure_width, rows * (panel_height + 0.5) + 0.4))
+    figure = Figure(figsize=(figure_width, rows * (panel_height + 0.6) + 0.6))
     axes = figure.subplots(rows, columns, sharex=True, sharey=True, squeeze=False)
     for axis in axes.flat[count:]:
         axis.set_visible(False)
@@ -182,13 +227,14 @@ def chute_figure(
         axis.set_xlim(left - margin, right + margin)
         axis.set_ylim(bottom - margin, top_edge + margin)
         axis.text(0.98, 0.9, f"t = {state.t:g}", transform=axis.transAxes, ha="right", fontsize=9)
+    unit = " / L" if model.dimensionless else ""
     for axis in axes[:, 0]:
-        axis.set_ylabel("elevation", fontsize=9)
+        axis.set_ylabel(f"elevation{unit}", fontsize=9)
     for axis in axes[-1, :]:
-        axis.set_xlabel("horizontal position", fontsize=9)
+        axis.set_xlabel(f"horizontal position{unit}", fontsize=9)
     figure.suptitle(
-        f"{result.scene.name}: {model.name}, {result.scene.reconstructor_label}, "
-        f"N={result.grid.n_cells}\nequal scales; depth drawn x{exaggeration:g}, normal to the bed",
+        f"{result.scene.name}: {run_label(result)}\nequal scales; depth drawn "
+        f"x{exaggeration:g}, normal to the bed{_times_label(result, shown)}",
         fontsize=10,
     )
     figure.tight_layout()
@@ -250,9 +296,11 @@ def error_against_cells_figure(study: Any) -> Any:
 
 def margins_figure(result: RunResult) -> Any:
     """Margin positions and velocities against time (front tracking), with the exact margins
-    where the exact solution provides them."""
+    (dashed, on top) where the exact solution provides them; the exact velocities are the
+    derivatives of the exact positions."""
     margins = result.margins
     assert margins is not None
+    model = result.model
     figure = Figure(figsize=(8, 6))
     position_axis, velocity_axis = figure.subplots(2, 1, sharex=True)
     exact_margins = getattr(result.exact_solution, "margins", None)
@@ -262,17 +310,22 @@ def margins_figure(result: RunResult) -> Any:
         position_axis.plot(margins[:, 0], margins[:, column], "-", color=colour, label=name)
         velocity_axis.plot(margins[:, 0], margins[:, column + 1], "-", color=colour, label=name)
     if exact_margins is not None:
-        times = np.linspace(margins[0, 0], margins[-1, 0], 200)
+        times = np.linspace(margins[0, 0], margins[-1, 0], 400)
         exact = np.array([exact_margins(t) for t in times])
-        position_axis.plot(times, exact[:, 0], "k--", lw=0.9, label="exact")
-        position_axis.plot(times, exact[:, 1], "k--", lw=0.9)
-    position_axis.set_ylabel("margin position x")
-    velocity_axis.set_ylabel("margin velocity u")
-    velocity_axis.set_xlabel("t")
+        for k in (0, 1):
+            label = "exact" if k == 0 else None
+            position_axis.plot(times, exact[:, k], "k--", lw=0.9, zorder=3, label=label)
+            velocity = np.gradient(exact[:, k], times)
+            velocity_axis.plot(times, velocity, "k--", lw=0.9, zorder=3, label=label)
+    position_axis.set_ylabel(f"margin position\n{axis_label(model, 'x')}", fontsize=8.5)
+    velocity_axis.set_ylabel(f"margin velocity\n{axis_label(model, 'u')}", fontsize=8.5)
+    velocity_axis.set_xlabel(axis_label(model, "t"), fontsize=9)
     for axis in (position_axis, velocity_axis):
         axis.grid(alpha=0.3)
         axis.legend(fontsize=8, loc="best")
-    position_axis.set_title(f"{result.scene.name}: tracked margins")
+    position_axis.set_title(
+        f"{result.scene.name}: tracked margins; {run_label(result)}", fontsize=10
+    )
     figure.tight_layout()
     return figure
 

@@ -101,6 +101,7 @@ class RunResult:
         import xarray as xr
 
         from conslaw import __version__
+        from conslaw.provenance import as_json, record
 
         names = self.model.long_names
         units = {"units": "1"} if self.model.dimensionless else {}
@@ -128,6 +129,7 @@ class RunResult:
             "n_cells": self.grid.n_cells,
             "steps": self.steps,
             "conslaw_version": __version__,
+            "provenance": as_json(record(self.scene)),
         }
         return xr.Dataset(variables, coordinates, attributes)
 

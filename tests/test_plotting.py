@@ -69,5 +69,28 @@ def test_the_chute_is_drawn_at_equal_aspect_in_a_grid_of_panels(runout: RunResul
 def test_a_scene_with_an_exact_solution_says_so_in_the_title() -> None:
     result = conslaw.run("dam-break-wet", n_cells=100)
     title = profiles_figure(result).axes[0].get_title()
-    assert "L1 error" in title and "no exact solution" not in title
+    assert "L1(h) at t = 2: " in title and "no exact solution" not in title
     assert profiles_figure(result).axes[0].get_ylabel() == "h\ndepth"
+
+
+def test_the_depth_is_drawn_along_the_bed_normal_in_units_of_length() -> None:
+    """On a 40-degree plane with epsilon = 0.2, the drawn layer's top lies 3 epsilon h from the
+    bed along (sin zeta, cos zeta), perpendicular to the bed (it was drawn tilted by 2 zeta)."""
+    result = conslaw.run("sh-similarity", n_cells=60, t_end=0.5, parameters__epsilon=0.2)
+    figure = chute_figure(result)
+    outline = figure.axes[0].patches[0].get_xy()
+    n = result.grid.n_cells
+    bed, top = outline[:n], outline[n : 2 * n][::-1]
+    zeta = np.radians(40.0)
+    offset = top - bed
+    np.testing.assert_allclose(offset @ np.array([np.cos(zeta), -np.sin(zeta)]), 0.0, atol=1e-12)
+    depth = result.final.q[0]
+    np.testing.assert_allclose(np.hypot(*offset.T), 3.0 * 0.2 * depth, rtol=1e-12, atol=1e-14)
+
+
+def test_a_figure_says_which_output_times_it_leaves_out_and_draws_the_start() -> None:
+    many = conslaw.run("burgers-sine", n_cells=40, output_interval=0.025)
+    assert "6 of 11 output times drawn" in profiles_figure(many).axes[0].get_title()
+    single = conslaw.run("burgers-sine", n_cells=40)
+    labels = [t.get_text() for t in profiles_figure(single).axes[0].get_legend().get_texts()]
+    assert labels[0] == "t = 0 (initial)"
