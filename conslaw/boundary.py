@@ -16,7 +16,7 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-from conslaw.errors import ConfigError
+from conslaw.errors import ConfigError, finite_number, shown
 
 if TYPE_CHECKING:
     from conslaw.model import Model
@@ -184,9 +184,10 @@ def _inflow_data(model: Model, options: Mapping[str, Any]) -> NDArray[np.float64
             f"boundary 'inflow' needs state = a list of {model.n_vars} numbers "
             f"({', '.join(model.variables)}), got {state!r}"
         )
-    values = np.array(state, dtype=np.float64)
-    if not np.all(np.isfinite(values)):
-        raise ConfigError(f"boundary 'inflow' state must be finite, got {state!r}")
+    try:
+        values = np.array([finite_number(v, "boundary 'inflow' state") for v in state])
+    except ConfigError:
+        raise ConfigError(f"boundary 'inflow' state must be finite, got {shown(state)}") from None
     if not bool(model.is_admissible(values[:, None])[0]):
         raise ConfigError(f"boundary 'inflow' state {state!r} is not admissible for '{model.name}'")
     return values

@@ -10,6 +10,7 @@ import argparse
 import functools
 import sys
 import time
+import warnings
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, NoReturn
@@ -151,7 +152,7 @@ def _command_run(args: argparse.Namespace) -> int:
         from dataclasses import replace
 
         scene = replace(scene, plot=False)
-    out = Path(args.out) if args.out else Path("conslaw-output") / scene.name
+    out = _out_folder(args.out, Path("conslaw-output") / scene.name)
     check_output_dir(out)
     # Fork the figure child before the kernels load (matplotlib's import overlaps the solve).
     worker = FigureWorker.start() if scene.plot else None
@@ -278,13 +279,25 @@ def _rest_note(result: Any) -> str | None:
     return None
 
 
+def _out_folder(given: str | None, default: Path) -> Path:
+    """The ``--out`` folder: the one given, else ``default``; an empty name is refused (it
+    would otherwise mean the default silently)."""
+    from conslaw.errors import ConfigError
+
+    if given is None:
+        return default
+    if not given.strip():
+        raise ConfigError("--out: expected a folder name, got an empty one")
+    return Path(given)
+
+
 def _names(text: str | None) -> list[str] | None:
     return None if text is None else [part.strip() for part in text.split(",") if part.strip()]
 
 
 def _command_convergence(args: argparse.Namespace) -> int:
     from conslaw.errors import ConfigError
-    from conslaw.io import prepare_output_dir
+    from conslaw.io import check_output_dir, prepare_output_dir
     from conslaw.studies.convergence import convergence_study, write_study
 
     try:
@@ -293,12 +306,13 @@ def _command_convergence(args: argparse.Namespace) -> int:
         raise ConfigError(
             f"--cells: expected integers separated by commas, got '{args.cells}'"
         ) from None
-    out = Path(args.out) if args.out else Path("conslaw-output") / "convergence"
-    prepare_output_dir(out)
+    out = _out_folder(args.out, Path("conslaw-output") / "convergence")
+    check_output_dir(out)  # made only once the study has run
     study = convergence_study(
         args.scene, cells, _names(args.reconstructor), _names(args.scheme), args.repeats,
         _overrides(args.set),
     )  # fmt: skip
+    prepare_output_dir(out)
     print(study.table())
     print(study.summary())
     for path in write_study(study, out):
@@ -310,7 +324,7 @@ def _command_reproduce(args: argparse.Namespace) -> int:
     from conslaw.io import check_output_dir
     from conslaw.studies.reproduce import reproduce_paper
 
-    out = Path(args.out) if args.out else Path("conslaw-output") / "paper"
+    out = _out_folder(args.out, Path("conslaw-output") / "paper")
     check_output_dir(out)
     started = time.perf_counter()
     files = reproduce_paper(out)
@@ -330,7 +344,7 @@ def _command_compare(args: argparse.Namespace) -> int:
         raise ConfigError(
             "--scheme: expected comma-separated schemes, e.g. nessyahu-tadmor,lagrangian"
         )
-    out = Path(args.out) if args.out else Path("conslaw-output") / "compare"
+    out = _out_folder(args.out, Path("conslaw-output") / "compare")
     check_output_dir(out)
     comparison = compare(args.scene, schemes, _overrides(args.set))
     print(comparison.table())
@@ -426,7 +440,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         "warm": _command_warm,
     }
     try:
-        return handlers[args.command](args)
+        with warnings.catch_warnings():
+            # numpy's floating-point warnings (an overflow in an exact solution or a bed) are
+            # not for the command line: every state is checked (finite, admissible) and a
+            # failure is one line. From Python they show as usual.
+            warnings.filterwarnings("ignore", category=RuntimeWarning, module=r"(numpy|conslaw)")
+            return handlers[args.command](args)
     except ConslawError as error:
         sys.stderr.write(f"conslaw: error: {error}\n")
         return EXIT_INPUT

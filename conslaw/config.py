@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
 import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -74,7 +75,7 @@ KEY_HELP: dict[str, str] = {
     "before t_end (integer >= 1; checked at every progress report: nessyahu-tadmor every "
     "4e6/n_cells steps, front tracking every 1e6/n_cells, lagrangian every 200, and at every "
     "output time), or earlier, once 1e4 steps show that the run would need more than ten "
-    "times this many",
+    "times this many (once 1e6 steps show it would need more than twice this many)",
     "boundary": "table: left, right = a boundary name or { kind = ..., options }",
     "initial": "table: kind (piecewise-constant, sine) and its options",
     "output": (
@@ -208,9 +209,20 @@ def scene_path(name_or_path: str | Path) -> tuple[str, Path]:
     path = Path(text)
     if path.suffix == ".toml":
         if not path.is_file():
-            raise ConfigError(f"scene file '{path}' does not exist")
+            raise ConfigError(f"scene file '{path}' {_why_not_a_file(path)}")
         return path.stem, path
     raise ConfigError(unknown_name_message("scene", text, registry.scenes.names()))
+
+
+def _why_not_a_file(path: Path) -> str:
+    """Why ``path`` cannot be read as a file, for a one-line message."""
+    try:
+        os.stat(path)
+    except OSError as error:
+        if path.is_symlink():
+            return f"is a symbolic link that leads nowhere ({error.strerror})"
+        return "does not exist"
+    return "is not a regular file (a folder or a device)"
 
 
 def read_scene_file(path: Path) -> dict[str, Any]:
@@ -376,6 +388,14 @@ def _domain(table: Mapping[str, Any]) -> tuple[float, int, float, float, float, 
         raise ConfigError(
             f"scene keys 'x_min', 'x_max': need x_min < x_max a finite length apart, "
             f"got {x_min}, {x_max}"
+        )
+    dx = (x_max - x_min) / n_cells
+    finest = 64.0 * math.ulp(max(abs(x_min), abs(x_max)))
+    if not dx > finest:
+        raise ConfigError(
+            f"scene keys 'x_min', 'x_max', 'n_cells': cells {dx:.3g} wide cannot be told apart "
+            f"at x = {max(abs(x_min), abs(x_max)):.3g} (floating-point spacing there "
+            f"{finest / 64:.3g}); move the domain nearer 0 or use fewer cells"
         )
     t_end = _number(table, "t_end")
     if not t_end > 0.0:

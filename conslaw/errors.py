@@ -63,12 +63,30 @@ def unknown_name_message(kind: str, name: str, allowed: Iterable[str]) -> str:
     return f"unknown {kind} '{name}'; allowed: {', '.join(allowed)}{hint}"
 
 
+def shown(value: object, limit: int = 60) -> str:
+    """``repr(value)`` for a one-line message: an integer too long to print whole (Python
+    refuses beyond 4300 digits) by its number of digits, anything longer than ``limit``
+    characters cut with ``...``."""
+    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 200:
+        digits = len(str(abs(value))) if value.bit_length() < 14000 else "over 4000"
+        return f"an integer of {digits} digits"
+    text = repr(value)
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
 def finite_number(value: object, label: str) -> float:
     """``value`` as a float if it is a finite int or float (not a bool); else a ConfigError
-    ``"<label>: expected a finite number, got <value>"``."""
-    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
-        raise ConfigError(f"{label}: expected a finite number, got {value!r}")
-    return float(value)
+    ``"<label>: expected a finite number, got <value>"`` (an integer beyond the float range
+    too)."""
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise ConfigError(f"{label}: expected a finite number, got {shown(value)}")
+    try:
+        number = float(value)
+    except OverflowError:
+        raise ConfigError(f"{label}: expected a finite number, got {shown(value)}") from None
+    if not math.isfinite(number):
+        raise ConfigError(f"{label}: expected a finite number, got {shown(value)}")
+    return number
 
 
 class RunInterrupted(KeyboardInterrupt):

@@ -18,8 +18,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from conslaw.errors import ConfigError, finite_number, unknown_name_message
+from conslaw.errors import ConfigError, finite_number, shown, unknown_name_message
 from conslaw.grid import Grid
+
+#: Largest sine wavenumber (every integer up to it is exact as a float).
+MAX_WAVENUMBER = 2**53
 
 if TYPE_CHECKING:
     from conslaw.model import Model
@@ -131,8 +134,15 @@ class InitialCondition:
         mean = _number(self.options["mean"], "mean")
         amplitude = _number(self.options["amplitude"], "amplitude")
         wavenumber = self.options["wavenumber"]
-        if isinstance(wavenumber, bool) or not isinstance(wavenumber, int) or wavenumber < 1:
-            raise ConfigError(f"initial.wavenumber: expected an integer >= 1, got {wavenumber!r}")
+        if (
+            isinstance(wavenumber, bool)
+            or not isinstance(wavenumber, int)
+            or not 1 <= wavenumber <= MAX_WAVENUMBER
+        ):
+            raise ConfigError(
+                "initial.wavenumber: expected an integer >= 1 and <= 2**53, "
+                f"got {shown(wavenumber)}"
+            )
         k = 2.0 * np.pi * wavenumber / grid.length
         edges = grid.edges
         antiderivative = mean * edges - amplitude / k * np.cos(k * (edges - grid.x_min))

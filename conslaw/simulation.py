@@ -222,6 +222,10 @@ def simulate(
 #: only a clear excess counts).
 HOPELESS_AFTER_STEPS = 10_000
 HOPELESS_FACTOR = 10.0
+#: After this many steps the rate is a firm estimate: a run needing more than
+#: ``CONFIDENT_FACTOR`` times ``max_steps`` stops then.
+CONFIDENT_AFTER_STEPS = 1_000_000
+CONFIDENT_FACTOR = 2.0
 
 
 def steps_needed(scene: Scene, since: tuple[float, int], t: float, steps: int) -> float:
@@ -237,10 +241,13 @@ def steps_needed(scene: Scene, since: tuple[float, int], t: float, steps: int) -
 def cannot_finish(scene: Scene, since: tuple[float, int], t: float, steps: int) -> bool:
     """Whether a run at ``t`` after ``steps`` steps would need more than ``HOPELESS_FACTOR *
     max_steps`` steps in all at its recent rate (:func:`steps_needed`; a domain far too small
-    for its waves, say): it is stopped then, not when it finally reaches ``max_steps``."""
+    for its waves, say), or, once ``CONFIDENT_AFTER_STEPS`` steps make the rate a firm
+    estimate, more than ``CONFIDENT_FACTOR * max_steps``: it is stopped then, not when it
+    finally reaches ``max_steps``."""
     if steps < HOPELESS_AFTER_STEPS:
         return False
-    return bool(steps_needed(scene, since, t, steps) > HOPELESS_FACTOR * scene.max_steps)
+    factor = HOPELESS_FACTOR if steps < CONFIDENT_AFTER_STEPS else CONFIDENT_FACTOR
+    return bool(steps_needed(scene, since, t, steps) > factor * scene.max_steps)
 
 
 def step_limit_message(
@@ -256,8 +263,9 @@ def step_limit_message(
         need_text = f"about {need:.0f}" if need < 1e6 else f"about {need:.2g}"
     else:
         need_text = "unboundedly many"
+    factor = HOPELESS_FACTOR if steps < CONFIDENT_AFTER_STEPS else CONFIDENT_FACTOR
     why = (
-        f"more than {HOPELESS_FACTOR:g} times scene key 'max_steps' = {scene.max_steps}"
+        f"more than {factor:g} times scene key 'max_steps' = {scene.max_steps}"
         if early
         else f"scene key 'max_steps' = {scene.max_steps} reached"
     )

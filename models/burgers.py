@@ -60,6 +60,8 @@ class Burgers(Model):
             fans = BurgersRiemannFans.from_initial(initial, grid)
             if fans.valid_until() < t_end:
                 raise Unavailable(f"the Riemann waves interact at t={fans.valid_until():g}")
+            if not fans.breakpoints:  # one constant state: it stays as it is
+                return fans
             lowest = fans._wave_extent(0, t_end)[0]
             highest = fans._wave_extent(len(fans.breakpoints) - 1, t_end)[1]
             if lowest < grid.x_min or highest > grid.x_max:

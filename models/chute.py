@@ -24,6 +24,7 @@ Three kinds:
 from __future__ import annotations
 
 import functools
+import io
 import math
 import os
 import stat
@@ -131,24 +132,43 @@ MAX_SPLINE_ROWS = 2000
 
 
 def _read_table(path: Path) -> np.ndarray:
-    """The CSV table at ``path`` as a structured array with the header's names."""
+    """The CSV table at ``path`` as a structured array with the header's names. UTF-8 (a
+    byte-order mark is skipped); comment lines (``#``) and blank lines before the header are
+    skipped, as a DEM export may start with them."""
     try:
         size = path.stat().st_size
+        if size > MAX_TABLE_BYTES:
+            raise ConfigError(
+                f"parameters.chute_file: '{path}' is {size / 2**20:.0f} MiB; a chute table may "
+                f"have at most {MAX_TABLE_BYTES // 2**20} MiB (thin the profile)"
+            )
+        raw = path.read_bytes()
     except OSError as error:
         raise ConfigError(f"parameters.chute_file: cannot read '{path}': {error}") from None
-    if size == 0:
+    if not raw:
         raise ConfigError(f"parameters.chute_file: '{path}' is empty")
-    if size > MAX_TABLE_BYTES:
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as error:
         raise ConfigError(
-            f"parameters.chute_file: '{path}' is {size / 2**20:.0f} MiB; a chute table may have "
-            f"at most {MAX_TABLE_BYTES // 2**20} MiB (thin the profile)"
-        )
+            f"parameters.chute_file: cannot read '{path}': not UTF-8 text ({error.reason} at "
+            f"byte {error.start})"
+        ) from None
+    lines = text.splitlines()
+    while lines and (not lines[0].strip() or lines[0].lstrip().startswith("#")):
+        lines.pop(0)
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # numpy warns instead of failing on some broken tables
         try:
-            return np.genfromtxt(path, delimiter=",", names=True, dtype=float)
-        except (OSError, ValueError, IndexError, UserWarning) as error:
-            raise ConfigError(f"parameters.chute_file: cannot read '{path}': {error}") from None
+            return np.genfromtxt(
+                io.StringIO("\n".join(lines)), delimiter=",", names=True, dtype=float
+            )
+        except (ValueError, IndexError, UserWarning) as error:
+            # numpy's message may span lines ("Some errors were detected !\n Line #23 ...").
+            reason = "; ".join(part.strip() for part in str(error).splitlines() if part.strip())
+            raise ConfigError(
+                f"parameters.chute_file: cannot read '{path}': {reason[:200]}"
+            ) from None
 
 
 def binned_profile(x: Array, z: Array, rows: int) -> tuple[Array, Array]:
@@ -206,13 +226,24 @@ class TableChute(Chute):
             self._angle = PchipInterpolator(x, np.radians(values), extrapolate=False)
         else:
             x, values = binned_profile(x, values, MAX_SPLINE_ROWS)
-            spline = make_smoothing_spline(x, values)
-            slope = spline.derivative()
-            fine = np.linspace(x[0], x[-1], 50 * x.size + 1)
-            metric = np.sqrt(1.0 + slope(fine) ** 2)
-            arc = np.concatenate(
-                [[0.0], np.cumsum(0.5 * np.diff(fine) * (metric[1:] + metric[:-1]))]
-            )
+            try:
+                with np.errstate(all="raise"), warnings.catch_warnings():
+                    warnings.simplefilter("error")
+                    spline = make_smoothing_spline(x, values)
+                    slope = spline.derivative()
+                    fine = np.linspace(x[0], x[-1], 50 * x.size + 1)
+                    metric = np.sqrt(1.0 + slope(fine) ** 2)
+                    arc = np.concatenate(
+                        [[0.0], np.cumsum(0.5 * np.diff(fine) * (metric[1:] + metric[:-1]))]
+                    )
+                if not (np.all(np.isfinite(arc)) and np.all(np.diff(arc) > 0)):
+                    raise FloatingPointError("the arc length is not finite and increasing")
+            except (ValueError, FloatingPointError, ArithmeticError, Warning) as error:
+                reason = " ".join(str(error).split())[:160]
+                raise ConfigError(
+                    f"parameters.chute_file: cannot fit a smooth bed to the profile in '{path}' "
+                    f"({reason}); check its units and spacing"
+                ) from None
             arc += x[0]
             self._s = arc
             self._angle = PchipInterpolator(arc, -np.arctan(slope(fine)), extrapolate=False)

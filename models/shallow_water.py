@@ -205,8 +205,15 @@ class ShallowWater(DepthAveragedModel):
         ``2 (b_right half - b_left half) / dx``, so that ``b +- dx b_x / 4`` are the half-cell
         averages (what the surface reconstruction and the staggered averages need)."""
         x = np.asarray(x, dtype=np.float64)
-        left, right = self._half_cell_averages(x, dx)
-        return np.ascontiguousarray(np.vstack([0.5 * (left + right), 2.0 * (right - left) / dx]))
+        with np.errstate(over="ignore", invalid="ignore"):
+            left, right = self._half_cell_averages(x, dx)
+            aux = np.vstack([0.5 * (left + right), 2.0 * (right - left) / dx])
+        if not np.all(np.isfinite(aux)):
+            raise ConfigError(
+                "parameters.bump_height, bump_width: the bed or its slope overflows on this grid "
+                f"(height {self.params.bump_height:g}, width {self.params.bump_width:g})"
+            )
+        return np.ascontiguousarray(aux)
 
     def initial_cell_averages(self, kind: str, options: Mapping[str, Any], grid: Grid) -> Array:
         """``still-water``: ``h = max(surface - b, 0)``, ``b`` the cell average of the bed."""

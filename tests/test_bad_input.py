@@ -58,6 +58,23 @@ BadInput = tuple[str, list[str], list[str], dict[str, str | bytes]]
 
 #: Content that :func:`prepare` writes as a sparse file larger than a chute table may be.
 SPARSE_TABLE = "<sparse file above MAX_TABLE_BYTES>"
+#: Content that :func:`prepare` makes a folder of that name instead of a file.
+FOLDER = "<a folder>"
+#: An integer beyond the float range (about 1.8e308).
+BIG = "1" + "0" * 400
+#: A valid angle table of 21 rows.
+ANGLES = "x,zeta\n" + "".join(f"{float(i)},40.0\n" for i in range(21))
+SHL = ["run", "sh-similarity-lagrangian", "--set"]
+SINE = ["run", "burgers-sine", "--set"]
+
+
+def sh_table(rows: str | bytes) -> tuple[list[str], dict[str, str | bytes]]:
+    """A short Savage–Hutter run on the chute table ``chute.csv`` holding ``rows``."""
+    args = [
+        *SH, "parameters.chute=table", "--set", "t_end=0.5", "--set",
+        'parameters.chute_file="chute.csv"', "--set", "parameters.chute_extend=true",
+    ]  # fmt: skip
+    return args, {"chute.csv": rows}
 
 
 def bad(
@@ -455,6 +472,311 @@ CASES: list[BadInput] = [
     ),
     bad("output-interval-nan", [*RIEMANN, "output_interval=nan"], ["output_interval"]),
     bad("output-interval-a-word", [*RIEMANN, "output_interval=often"], ["output_interval"]),
+    # ---- numbers beyond the float range, anywhere a number is read (each was a traceback)
+    bad("huge-int-x_min", [*RIEMANN, f"x_min={BIG}"], ["scene key 'x_min'", "401 digits"]),
+    bad(
+        "huge-int-output-time", [*RIEMANN, f"output_times=[{BIG}]"], ["output_times", "401 digits"]
+    ),
+    bad(
+        "huge-int-state",
+        [*RIEMANN, f"initial.states=[-0.5, {BIG}, 0.0]"],
+        ["initial.states[1]", "401 digits"],
+    ),
+    bad("huge-int-phi", [*SH, f"parameters.phi={BIG}"], ["parameters.phi", "401 digits"]),
+    bad("huge-int-zeta", [*SH, f"parameters.zeta={BIG}"], ["parameters.zeta", "401 digits"]),
+    bad("huge-int-cap-radius", [*SH, f"initial.radius={BIG}"], ["initial.radius", "401 digits"]),
+    bad(
+        "huge-int-viscosity",
+        [*SHL, f"scheme_options.viscosity={BIG}"],
+        ["scheme_options.viscosity", "401 digits"],
+    ),
+    bad(
+        "huge-int-inflow-state",
+        [*SW, f"boundary.left={{kind='inflow', state=[{BIG}, 0.0]}}"],
+        ["boundary 'inflow' state must be finite"],
+    ),
+    bad(
+        "huge-int-wavenumber", [*SINE, f"initial.wavenumber={BIG}"], ["initial.wavenumber", "2**53"]
+    ),
+    bad(
+        "huge-int-in-a-scene-file",
+        ["run", "bad.toml"],
+        ["scene key 'x_max'", "401 digits"],
+        scene_file(SCENE.replace("x_max = 1.0", f"x_max = {BIG}")),
+    ),
+    bad(
+        "huge-int-in-show",
+        ["show", "burgers-riemann", "--set", f"t_end={BIG}"],
+        ["t_end", "401 digits"],
+    ),
+    # ---- grids, beds and domains the numbers cannot hold
+    bad(
+        "cells-below-float-resolution",
+        [
+            *RIEMANN,
+            "x_min=1e16",
+            "--set",
+            "x_max=10000000000000004.0",
+            "--set",
+            "initial.breakpoints=[]",
+            "--set",
+            "initial.states=[1.0]",
+        ],
+        ["cannot be told apart", "floating-point spacing there 2"],
+    ),
+    bad(
+        "bed-overflows",
+        ["run", "lake-at-rest", "--set", "parameters.bump_height=1e308"],
+        ["bump_height", "overflows"],
+    ),
+    # ---- chute tables (tracebacks, multi-line messages)
+    bad(
+        "chute-ragged-row",
+        sh_table(ANGLES + "21,40,7\n"),
+        ["cannot read 'chute.csv'", "Line #23 (got 3 columns instead of 2)"],
+    ),
+    bad(
+        "chute-profile-overflows",
+        sh_table("x,z\n" + "".join(f"{i},{-1e300 * i}\n" for i in range(21))),
+        ["cannot fit a smooth bed", "chute.csv", "check its units and spacing"],
+    ),
+    bad(
+        "chute-profile-spacing-1e-12",
+        sh_table("x,z\n" + "".join(f"{i * 1e-12},{-i * 1e-12}\n" for i in range(21))),
+        ["cannot fit a smooth bed", "ill-posed"],
+    ),
+    bad(
+        "chute-nul-bytes",
+        sh_table(b"x,zeta\n" + b"\0" * 1000),
+        ["cannot read 'chute.csv'", "got 1 columns"],
+    ),
+    bad(
+        "chute-extra-column",
+        sh_table("x,zeta,foo\n" + "".join(f"{i},40,1\n" for i in range(21))),
+        ["got x,zeta,foo"],
+    ),
+    bad("chute-semicolons", sh_table(ANGLES.replace(",", ";")), ["cannot read 'chute.csv'"]),
+    bad(
+        "chute-angle-minus-95",
+        sh_table(ANGLES.replace(",40.0", ",-95.0")),
+        ["angles must be in (-90, 90)"],
+    ),
+    bad(
+        "chute-latin1",
+        sh_table(
+            ("x,zeta\n# h\xf6he\n" + "".join(f"{i},40\n" for i in range(21))).encode("latin-1")
+        ),
+        ["cannot read 'chute.csv'", "not UTF-8"],
+    ),
+    bad("chute-a-folder", sh_table(FOLDER), ["'chute.csv' is not a regular file"]),
+    bad("chute-duplicate-x", sh_table(ANGLES + "20.0,40\n"), ["x must be strictly increasing"]),
+    # ---- convergence, compare, warm, show: nothing made before the arguments are checked
+    bad(
+        "convergence-without-exact-makes-no-folder",
+        [
+            "convergence",
+            "lake-at-rest",
+            "--set",
+            "boundary.left=outflow",
+            "--cells",
+            "50,100",
+            "--out",
+            "newout",
+        ],
+        ["no exact solution to measure against", "between walls"],
+    ),
+    bad(
+        "convergence-cells-zero",
+        ["convergence", "burgers-riemann", "--cells", "0", "--out", "newout"],
+        ["--cells: expected integers >= 4"],
+    ),
+    bad(
+        "convergence-repeats-huge",
+        [
+            "convergence",
+            "burgers-riemann",
+            "--cells",
+            "50,100",
+            "--repeats",
+            "100000000000000000000",
+            "--out",
+            "newout",
+        ],
+        ["--repeats", "<= 1000"],
+    ),
+    bad(
+        "convergence-unknown-reconstructor",
+        [
+            "convergence",
+            "burgers-riemann",
+            "--cells",
+            "50,100",
+            "--reconstructor",
+            "mc,nosuch",
+            "--out",
+            "newout",
+        ],
+        ["unknown reconstructor 'nosuch'"],
+    ),
+    bad("out-empty-name", ["run", "burgers-riemann", "--out", ""], ["--out", "empty"]),
+    bad(
+        "out-dev-null",
+        ["run", "burgers-riemann", "--out", "/dev/null"],
+        ["not a folder ('/dev/null')"],
+    ),
+    bad(
+        "warm-jobs-zero",
+        ["warm", "--jobs", "0", "burgers-riemann"],
+        ["--jobs: expected an integer >= 1", "got 0"],
+    ),
+    bad("warm-unknown-scene", ["warm", "nosuch-scene"], ["unknown scene 'nosuch-scene'"]),
+    bad(
+        "show-bad-set",
+        ["show", "burgers-riemann", "--set", "n_cells=-1"],
+        ["scene key 'n_cells'", "got -1"],
+    ),
+    bad(
+        "compare-option-of-another-scheme",
+        ["compare", "burgers-riemann", "--scheme", "nessyahu-tadmor:foo=1", "--out", "newout"],
+        ["scheme_options.foo: scheme 'nessyahu-tadmor' takes no options"],
+    ),
+    bad(
+        "compare-lagrangian-burgers",
+        ["compare", "burgers-riemann", "--scheme", "nessyahu-tadmor,lagrangian", "--out", "newout"],
+        ["scheme 'lagrangian' needs a depth-averaged model"],
+    ),
+    bad(
+        "scene-path-a-folder",
+        ["run", "dir.toml"],
+        ["scene file 'dir.toml' is not a regular file"],
+        {"dir.toml": FOLDER},
+    ),
+    # ---- keys, types and values
+    bad(
+        "set-empty-key",
+        ["run", "burgers-riemann", "--set", "=5"],
+        ["--set expects key=value", "got '=5'"],
+    ),
+    bad("set-dotted-into-a-number", [*RIEMANN, "n_cells.x=1"], ["'n_cells' is not a table"]),
+    bad("set-non-ascii-key", [*RIEMANN, "n_cellś=5"], ["did you mean 'n_cells'?"]),
+    bad(
+        "model-a-table",
+        [*RIEMANN, "model={name='burgers'}"],
+        ["scene key 'model': expected a name"],
+    ),
+    bad("cfl-a-bool", [*RIEMANN, "cfl=true"], ["scene key 'cfl': expected a finite number"]),
+    bad("t_end-minus-zero", [*RIEMANN, "t_end=-0.0"], ["scene key 't_end': must be > 0"]),
+    bad(
+        "t_end-a-date",
+        [*RIEMANN, "t_end=1979-05-27"],
+        ["scene key 't_end': expected a finite number", "datetime.date"],
+    ),
+    bad(
+        "breakpoints-nested",
+        [*RIEMANN, "initial.breakpoints=[[0.0], [1.0]]"],
+        ["initial.breakpoints: expected a finite number"],
+    ),
+    bad(
+        "states-three-numbers",
+        [*SW, "initial.states=[[1.0, 0.0, 0.0], [0.0, 0.0]]"],
+        ["expected 2 numbers (h, hu)"],
+    ),
+    bad(
+        "wavenumber-a-fraction",
+        [*SINE, "initial.wavenumber=1.5"],
+        ["initial.wavenumber: expected an integer >= 1"],
+    ),
+    bad("cap-radius-zero", [*SH, "initial.radius=0.0"], ["need radius > 0"]),
+    bad(
+        "cap-without-height",
+        [*SH, "initial={kind='parabolic-cap', centre=4.0, radius=2.0}"],
+        ["initial.height is required for kind 'parabolic-cap'"],
+    ),
+    bad(
+        "viscosity-nan",
+        [*SHL, "scheme_options.viscosity=nan"],
+        ["scheme_options.viscosity: expected a finite number"],
+    ),
+    bad(
+        "pressure-form-unknown",
+        [*SHL, "scheme_options.pressure=foo"],
+        ["unknown scheme_options.pressure: pressure form 'foo'"],
+    ),
+    bad("scheme-option-for-nt", [*RIEMANN, "scheme_options.viscosity=0.02"], ["takes no options"]),
+    bad(
+        "front-tracking-with-lagrangian",
+        [*SHL, "front_tracking=true"],
+        ["cannot be combined with 'lagrangian'"],
+    ),
+    bad(
+        "lagrangian-over-a-bed",
+        ["run", "lake-at-rest", "--set", "scheme=lagrangian"],
+        ["not available for 'shallow-water' with a bed source"],
+    ),
+    bad(
+        "front-tracking-periodic",
+        [
+            "run",
+            "sh-similarity-ft",
+            "--set",
+            "boundary.left=periodic",
+            "--set",
+            "boundary.right=periodic",
+        ],
+        ["not available on a periodic domain"],
+    ),
+    bad("gravity-zero", [*SW, "parameters.g=0"], ["parameters.g: gravity must be > 0"]),
+    bad(
+        "burgers-given-parameters",
+        [*RIEMANN, "parameters={g=1.0}"],
+        ["model 'burgers' takes no parameters"],
+    ),
+    bad(
+        "transition-of-zero-length",
+        ["run", "sh-runout-shock", "--set", "parameters.transition_end=21.5"],
+        ["transition_end must be > transition_start"],
+    ),
+    bad(
+        "inflow-negative-depth",
+        [*SW, "boundary.left={kind='inflow', state=[-1.0, 0.0]}"],
+        ["is not admissible for 'shallow-water'"],
+    ),
+    bad(
+        "inflow-state-a-table",
+        [*SW, "boundary.left={kind='inflow', state={h=1.0, hu=0.0}}"],
+        ["needs state = a list of 2 numbers"],
+    ),
+    bad(
+        "boundary-an-empty-table", [*SW, "boundary.left={}"], ["boundary.left: expected a name or"]
+    ),
+    bad(
+        "wall-with-a-state",
+        [*SW, "boundary.left={kind='wall', state=[1.0, 0.0]}"],
+        ["'wall' takes no options"],
+    ),
+    bad(
+        "format-in-capitals",
+        [*RIEMANN, "output.formats=['NPZ']"],
+        ["output.formats: expected a list"],
+    ),
+    bad("plot-a-word", [*RIEMANN, "output.plot='yes'"], ["output.plot: expected true or false"]),
+    bad(
+        "output-times-nested",
+        [*RIEMANN, "output_times=[[0.5]]"],
+        ["scene key 'output_times': expected a finite number"],
+    ),
+    bad(
+        "scene-file-empty",
+        ["run", "empty.toml"],
+        ["scene key 'model' is required"],
+        {"empty.toml": ""},
+    ),
+    bad(
+        "scene-file-table-twice",
+        ["run", "bad.toml"],
+        ["is not valid TOML", "Cannot declare ('initial',) twice"],
+        scene_file(SCENE + '[initial]\nkind = "sine"\n'),
+    ),
     bad(
         "convergence-bad-cells",
         ["convergence", "dam-break-wet", "--cells", "10,abc"],
@@ -489,7 +811,9 @@ def prepare(folder: Path, files: dict[str, str | bytes]) -> None:
     (folder / "earlier").mkdir()
     (folder / "earlier" / "states.npz").write_bytes(b"an earlier run's output")
     for name, content in files.items():
-        if content == SPARSE_TABLE:
+        if content == FOLDER:
+            (folder / name).mkdir()
+        elif content == SPARSE_TABLE:
             with open(folder / name, "wb") as sparse:
                 sparse.truncate(MAX_TABLE_BYTES + 1)
         elif isinstance(content, bytes):
@@ -524,8 +848,8 @@ def test_bad_input_is_one_line_exit_2_nothing_written(
     assert snapshot(tmp_path) == before, "a file was written or changed"
 
 
-def test_the_catalogue_has_at_least_30_cases() -> None:
-    assert len(CASES) >= 30 and len({c[0] for c in CASES}) == len(CASES)
+def test_the_catalogue_has_at_least_150_cases() -> None:
+    assert len(CASES) >= 150 and len({c[0] for c in CASES}) == len(CASES)
 
 
 @pytest.mark.parametrize(

@@ -368,6 +368,23 @@ def test_a_run_that_cannot_finish_stops_early(
     assert 10_000 <= steps < 1_000_000 and stopped < 1e-3
 
 
+def test_a_firm_step_rate_stops_a_run_needing_over_twice_max_steps() -> None:
+    """After 1e4 steps a run stops only if it needs more than 10 x max_steps (the rate may
+    still change); after 1e6 steps, more than 2 x (phi = 89.99999 needs 2.8e8 steps against
+    the default 1e8: stopped after 1e6 steps, in 15 s, not after 1e8)."""
+    from dataclasses import replace
+
+    from conslaw.config import load_scene
+    from conslaw.simulation import cannot_finish
+
+    scene = replace(load_scene("sh-similarity"), max_steps=1_000_000, t_end=1.0)
+    # Three times max_steps at the rate seen: 1.5e5 steps to t = 0.05 since the last check.
+    assert not cannot_finish(scene, (0.0, 0), 0.05, 150_000)
+    assert cannot_finish(scene, (0.0, 1_000_000), 0.05, 1_150_000)
+    # Just under twice: runs on.
+    assert not cannot_finish(scene, (0.0, 1_000_000), 0.5, 1_400_000)  # needs 1.8e6
+
+
 def test_max_steps_stops_a_run_only_before_t_end_and_after_recording_an_output_time() -> None:
     """burgers-riemann takes 112 steps to its output at t = 0.5 and 224 to t_end = 1, each
     stretch in one kernel call: with ``max_steps = 1`` and no output time before t_end the run

@@ -43,8 +43,9 @@ _lock = threading.RLock()
 def cache_dir() -> Path:
     """Folder of the generated kernel modules (created if needed).
 
-    ``CONSLAW_CACHE_DIR`` if set (a KernelCacheError if it cannot be used: it is never silently
-    replaced), else ``$XDG_CACHE_HOME/conslaw/kernels`` or ``~/.cache/conslaw/kernels``, else a
+    ``CONSLAW_CACHE_DIR`` if set to a non-empty value (a KernelCacheError if it cannot be used:
+    it is never silently replaced; an empty value counts as not set, as for ``XDG_CACHE_HOME``),
+    else ``$XDG_CACHE_HOME/conslaw/kernels`` or ``~/.cache/conslaw/kernels``, else a
     folder in the system's temporary folder.
     """
     chosen = os.environ.get("CONSLAW_CACHE_DIR")

@@ -23,10 +23,15 @@ from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
+from conslaw import registry
 from conslaw.analysis import observed_orders
 from conslaw.config import Scene, load_scene, scheme_variants
-from conslaw.errors import ConfigError
-from conslaw.simulation import simulate
+from conslaw.errors import ConfigError, shown
+from conslaw.grid import Grid
+from conslaw.simulation import exact_solution_for, simulate
+
+#: Most solves per N (``--repeats``).
+MAX_REPEATS = 1000
 
 
 @dataclass(frozen=True)
@@ -139,8 +144,10 @@ def convergence_study(
     cells = sorted({int(n) for n in cells})
     if not cells or cells[0] < 4:
         raise ConfigError(f"--cells: expected integers >= 4, got {cells}")
-    if not isinstance(repeats, int) or repeats < 1:
-        raise ConfigError(f"--repeats: expected an integer >= 1, got {repeats!r}")
+    if isinstance(repeats, bool) or not isinstance(repeats, int) or not 1 <= repeats <= MAX_REPEATS:
+        raise ConfigError(
+            f"--repeats: expected an integer >= 1 and <= {MAX_REPEATS}, got {shown(repeats)}"
+        )
     base = load_scene(scene, overrides)
     base = replace(base, output_times=(base.t_end,), exact=True)
     reconstructors = list(reconstructors or [base.reconstructor])
@@ -156,6 +163,15 @@ def convergence_study(
             # A scheme without a reconstructor is studied once, not once per reconstructor.
             if labels not in {(v.scheme_label, v.reconstructor_label) for v in variants}:
                 variants.append(variant)
+    for variant in variants:
+        model = registry.models.get(variant.model)(**variant.parameters)
+        grid = Grid(variant.x_min, variant.x_max, cells[0])
+        exact, why = exact_solution_for(variant, model, grid)
+        if exact is None:
+            raise ConfigError(
+                f"scene '{base.name}' has no exact solution to measure against ({why}); "
+                "convergence needs one"
+            )
     study = ConvergenceStudy(str(base.name), base.t_end, repeats)
     for variant in variants:
         key = f"{variant.scheme_label}/{variant.reconstructor_label}"
