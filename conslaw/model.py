@@ -218,6 +218,12 @@ class Model(ABC):
         """Exact cell averages of one of this model's :attr:`initial_kinds`."""
         raise NotImplementedError(f"model '{self.name}' has no initial condition '{kind}'")
 
+    def kernel_variant(self) -> str:
+        """In a few words, which of the model's compiled kernels these parameters need, where
+        parameters choose between several (:meth:`capabilities`); "" if there is one. Said when
+        a run compiles, so that a second compile for the same model is not a surprise."""
+        return ""
+
     def capabilities(self) -> dict[str, bool]:
         """What this instance uses; the compiled kernels leave out everything else.
 

@@ -177,8 +177,8 @@ def simulate(
         # Compile the kernels (or load them from the cache) before the clock starts.
         if notice is not None and scheme.needs_compile():
             notice(
-                f"compiling the {scene.scheme} kernels for {scene.model} "
-                "(first run only, about half a minute; cached for later runs)"
+                f"compiling the {scene.scheme} kernels for {kernel_label(scene, model)} (the "
+                "first run of this kind only, about half a minute; cached for later runs)"
             )
         started = time.perf_counter()
         scheme.compile(initial)
@@ -226,6 +226,13 @@ HOPELESS_FACTOR = 10.0
 #: ``CONFIDENT_FACTOR`` times ``max_steps`` stops then.
 CONFIDENT_AFTER_STEPS = 1_000_000
 CONFIDENT_FACTOR = 2.0
+
+
+def kernel_label(scene: Scene, model: Model) -> str:
+    """The model and, where its parameters choose among its kernels, which one (``savage-hutter,
+    phi > delta``)."""
+    variant = model.kernel_variant()
+    return f"{scene.model}, {variant}" if variant else scene.model
 
 
 def steps_needed(scene: Scene, since: tuple[float, int], t: float, steps: int) -> float:

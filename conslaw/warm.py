@@ -52,11 +52,12 @@ def warm(
 def _compile_scene(name: str) -> tuple[str, str, float]:
     """In a worker: compile what a run of scene ``name`` needs; (name, what, seconds)."""
     from conslaw.config import load_scene
-    from conslaw.simulation import build
+    from conslaw.simulation import build, kernel_label
 
     started = time.perf_counter()
     scene = load_scene(name)
-    _, _, scheme, initial, _ = build(scene)
+    model, _, scheme, initial, _ = build(scene)
     scheme.compile(initial)
     scheme.cell_coefficients(initial)  # the model's array kernels, used at every output
-    return name, f"{scene.scheme} kernels for {scene.model}", time.perf_counter() - started
+    label = f"{scene.scheme} kernels for {kernel_label(scene, model)}"
+    return name, label, time.perf_counter() - started

@@ -321,6 +321,12 @@ class SavageHutter(DepthAveragedModel):
         values[TAN_DELTA] = math.tan(math.radians(p.delta))
         return np.array(values)
 
+    def kernel_variant(self) -> str:
+        """phi = delta (one earth-pressure coefficient) or phi > delta (the active/passive
+        switch), and whether there is bed friction."""
+        switch = "phi > delta" if self.k_active != self.k_passive else "phi = delta"
+        return switch if self.params.delta > 0.0 else f"{switch}, no bed friction"
+
     def capabilities(self) -> dict[str, bool]:
         """Driving source and friction always; the K switch only if K_act != K_pass."""
         return {

@@ -167,6 +167,10 @@ class ShallowWater(DepthAveragedModel):
         """Whether the bed is not flat."""
         return self.params.bump_height != 0.0
 
+    def kernel_variant(self) -> str:
+        """A flat bed or one with a bump (the bed source and surface reconstruction)."""
+        return "with a bed" if self.has_bed else "flat bed"
+
     def uniform_aux(self) -> bool:
         """A flat bed has the same (zero) coefficients everywhere."""
         return not self.has_bed

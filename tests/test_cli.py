@@ -120,3 +120,23 @@ def test_a_result_prints_in_one_short_line() -> None:
     text = repr(result)
     assert "\n" not in text and len(text) < 200, text
     assert text.startswith("<RunResult burgers-riemann: burgers, nessyahu-tadmor, N=40")
+
+
+def test_a_compile_notice_says_which_kernel_of_a_model_it_builds() -> None:
+    """Parameters choose among a model's kernels (a bed or none, phi = delta or above): the
+    notice names the one, so that a second compile for the same model is explained."""
+    from conslaw.config import load_scene
+    from conslaw.simulation import build, kernel_label
+
+    labels = {}
+    for name in ("sh-runout-shock", "sh-runout-phi35", "dam-break-wet", "lake-at-rest",
+                 "burgers-riemann"):  # fmt: skip
+        scene = load_scene(name)
+        labels[name] = kernel_label(scene, build(scene)[0])
+    assert labels == {
+        "sh-runout-shock": "savage-hutter, phi = delta",
+        "sh-runout-phi35": "savage-hutter, phi > delta",
+        "dam-break-wet": "shallow-water, flat bed",
+        "lake-at-rest": "shallow-water, with a bed",
+        "burgers-riemann": "burgers",
+    }
