@@ -27,7 +27,7 @@ def test_study_rows_orders_and_timings() -> None:
 
 def test_scene_without_exact_solution_is_refused() -> None:
     with pytest.raises(ConfigError, match="no exact solution"):
-        convergence_study("lake-at-rest", [20, 40], repeats=1, measure_import=False)
+        convergence_study("sh-runout-shock", [20, 40], repeats=1, measure_import=False)
 
 
 def test_write_study_files(tmp_path: Path) -> None:
