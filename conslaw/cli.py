@@ -74,11 +74,12 @@ def _command_list(args: argparse.Namespace) -> int:
 
 
 def _command_show(args: argparse.Namespace) -> int:
-    from conslaw import tomlwrite
+    import tomli_w
+
     from conslaw.config import load_scene
 
     scene = load_scene(args.scene, _overrides(args.set))
-    sys.stdout.write(tomlwrite.dumps(scene.to_table()))
+    sys.stdout.write(tomli_w.dumps(scene.to_table()))
     return 0
 
 

@@ -54,6 +54,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+import tomli_w
 from numpy.typing import NDArray
 
 try:
@@ -61,7 +62,6 @@ try:
 except ImportError:  # Windows: no advisory locks, a folder is not claimed
     fcntl = None  # type: ignore[assignment]
 
-from conslaw import tomlwrite
 from conslaw.errors import ConfigError, OutputError
 from conslaw.provenance import as_json, record, toml_comment
 from conslaw.state import node_arrays
@@ -227,7 +227,7 @@ def write_toml(path: Path, document: dict[str, Any]) -> Path:
 
 def toml_bytes(document: dict[str, Any]) -> bytes:
     """A TOML document as UTF-8 bytes."""
-    return tomlwrite.dumps(document).encode()
+    return tomli_w.dumps(document).encode()
 
 
 def write_figure(path: Path, figure: Any) -> Path:

@@ -8,14 +8,15 @@ module-level functions. The file name carries a hash of the template and of the 
 the compiled functions the kernel can reach (:func:`dependency_sources`), so editing the physics
 invalidates the cache and editing anything else does not.
 
-Cache folder: ``$CONSLAW_CACHE_DIR``, else ``$XDG_CACHE_HOME/conslaw/kernels``, else
-``~/.cache/conslaw/kernels``; a temporary folder if none of these is writable.
+Cache folder: ``$CONSLAW_CACHE_DIR``, else the user's cache folder (:func:`cache_dir`); a
+temporary folder if neither is writable.
 """
 
 from __future__ import annotations
 
 import ast
 import contextlib
+import getpass
 import hashlib
 import importlib
 import importlib.util
@@ -45,8 +46,10 @@ def cache_dir() -> Path:
 
     ``CONSLAW_CACHE_DIR`` if set to a non-empty value (a KernelCacheError if it cannot be used:
     it is never silently replaced; an empty value counts as not set, as for ``XDG_CACHE_HOME``),
-    else ``$XDG_CACHE_HOME/conslaw/kernels`` or ``~/.cache/conslaw/kernels``, else a
-    folder in the system's temporary folder.
+    else the user's cache folder (``platformdirs``: ``$XDG_CACHE_HOME/conslaw/kernels`` or
+    ``~/.cache/conslaw/kernels`` on Linux, ``~/Library/Caches/conslaw/kernels`` on macOS,
+    ``%LOCALAPPDATA%\\conslaw\\Cache\\kernels`` on Windows), else a folder in the system's
+    temporary folder.
     """
     chosen = os.environ.get("CONSLAW_CACHE_DIR")
     if chosen:
@@ -57,10 +60,12 @@ def cache_dir() -> Path:
                 f"CONSLAW_CACHE_DIR='{chosen}' cannot hold compiled kernels: "
                 f"{error.strerror or error}; point it to a writable folder"
             ) from None
-    candidates = []
-    xdg = os.environ.get("XDG_CACHE_HOME")
-    candidates.append((Path(xdg) if xdg else Path.home() / ".cache") / "conslaw" / "kernels")
-    candidates.append(Path(tempfile.gettempdir()) / f"conslaw-kernels-{os.getuid()}")
+    import platformdirs
+
+    candidates = [
+        Path(platformdirs.user_cache_dir("conslaw", appauthor=False)) / "kernels",
+        Path(tempfile.gettempdir()) / f"conslaw-kernels-{_user()}",
+    ]
     for folder in candidates:
         try:
             return _usable(folder)
@@ -69,6 +74,14 @@ def cache_dir() -> Path:
     raise KernelCacheError(
         "no writable folder for conslaw's compiled kernels; set CONSLAW_CACHE_DIR"
     )
+
+
+def _user() -> str:
+    """The user's name for a folder of their own in the shared temporary folder."""
+    try:
+        return getpass.getuser()
+    except (KeyError, OSError):  # no name for this user id (a container)
+        return str(os.getpid())
 
 
 def _usable(folder: Path) -> Path:
