@@ -22,6 +22,8 @@ extensions = [
     "myst_parser",
     "sphinx.ext.autodoc",
     "sphinx.ext.mathjax",
+    # A copy of MathJax in _static: the equations render without a network connection.
+    "sphinx-mathjax-offline",
     "numpydoc",
 ]
 source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
