@@ -424,19 +424,19 @@ def test_output_files_get_the_permissions_of_open(tmp_path: Path) -> None:
     in place has the mode ``open`` would give it (0o666 less the umask)."""
     import os
 
-    from conslaw import io
+    from conslaw.output import files
 
     previous = os.umask(0o022)
     try:
-        io._FILE_MODE = None  # the umask is read once per process
-        path = io.atomic_write_bytes(tmp_path / "a.bin", b"x")
+        files._FILE_MODE = None  # the umask is read once per process
+        path = files.atomic_write_bytes(tmp_path / "a.bin", b"x")
         assert path.stat().st_mode & 0o777 == 0o644
         os.umask(0o077)
-        io._FILE_MODE = None
-        assert io.atomic_write_bytes(tmp_path / "b.bin", b"x").stat().st_mode & 0o777 == 0o600
+        files._FILE_MODE = None
+        assert files.atomic_write_bytes(tmp_path / "b.bin", b"x").stat().st_mode & 0o777 == 0o600
     finally:
         os.umask(previous)
-        io._FILE_MODE = None
+        files._FILE_MODE = None
 
 
 def test_a_folder_being_written_is_refused_to_a_second_run(

@@ -1,0 +1,195 @@
+"""Writing files safely: atomically (a temporary name, then a rename), several at once as one
+commit, into a checked output folder, with signals held while an output time is written
+(docs/output.md, "Nothing lost")."""
+
+from __future__ import annotations
+
+import errno
+import io
+import os
+import signal
+import tempfile
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Any
+
+import tomli_w
+
+from conslaw.errors import ConfigError
+
+
+def _file_mode() -> int:
+    """The mode ``open`` gives a new file: ``0o666`` less the process's umask (read once: a
+    umask of 0 for a moment on every write would reach files other threads create then)."""
+    global _FILE_MODE
+    if _FILE_MODE is None:
+        umask = os.umask(0)
+        os.umask(umask)
+        _FILE_MODE = 0o666 & ~umask
+    return _FILE_MODE
+
+
+_FILE_MODE: int | None = None
+
+
+def atomic_write_bytes(path: Path, data: bytes) -> Path:
+    """Write ``data`` to ``path`` through a temporary file and an atomic rename (with the
+    permissions of a file made by ``open``, not the owner-only ones of the temporary file)."""
+    path = Path(path)
+    temporary = write_temporary(path, data)
+    try:
+        os.replace(temporary, path)
+    except BaseException:
+        temporary.unlink(missing_ok=True)
+        raise
+    return path
+
+
+def write_temporary(path: Path, data: bytes) -> Path:
+    """``data`` in a new temporary file beside ``path`` (removed again if writing fails), with
+    the permissions of a file made by ``open``; the caller renames it into place."""
+    path = Path(path)
+    handle, name = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    temporary = Path(name)
+    try:
+        with os.fdopen(handle, "wb") as stream:
+            stream.write(data)
+        os.chmod(temporary, _file_mode())
+    except BaseException:
+        temporary.unlink(missing_ok=True)
+        raise
+    return temporary
+
+
+class OutputCommit:
+    """The files of one output time, put in place together or not at all.
+
+    :meth:`put` writes each file under a temporary name beside its destination; :meth:`apply`
+    renames them all into place: first the files whose names are new (if one of those renames
+    fails, the ones already in place are removed again), then those that replace a file (data
+    files before the indexes that list them, in the order they were put). :meth:`undo` removes
+    the temporary files. A write that fails (a full disk) therefore leaves every file of the
+    folder as it was before this output.
+    """
+
+    def __init__(self) -> None:
+        self._staged: list[tuple[Path, Path]] = []
+
+    def put(self, path: Path, data: bytes) -> Path:
+        """Stage ``data`` for ``path``; returns ``path``. An OSError names ``path``."""
+        try:
+            temporary = write_temporary(path, data)
+        except OSError as error:
+            if error.filename is None:
+                error.filename = str(path)
+            raise
+        self._staged.append((temporary, Path(path)))
+        return Path(path)
+
+    def apply(self) -> None:
+        """Rename every staged file into place (new names first; see the class)."""
+        new = [pair for pair in self._staged if not pair[1].exists()]
+        placed: list[Path] = []
+        try:
+            for temporary, path in new:
+                os.replace(temporary, path)
+                placed.append(path)
+        except BaseException:
+            for path in placed:
+                path.unlink(missing_ok=True)
+            raise
+        self._staged = [pair for pair in self._staged if pair not in new]
+        while self._staged:
+            temporary, path = self._staged[0]
+            os.replace(temporary, path)
+            self._staged.pop(0)
+
+    def undo(self) -> None:
+        """Remove the staged files not yet in place."""
+        for temporary, _ in self._staged:
+            temporary.unlink(missing_ok=True)
+        self._staged.clear()
+
+
+def check_output_dir(folder: Path) -> Path:
+    """Check, without creating anything, that ``folder`` exists as a writable folder or can be
+    created (its nearest existing ancestor is a writable folder)."""
+    folder = Path(folder)
+    probe = folder
+    try:
+        os.stat(folder)
+    except OSError as error:
+        if error.errno not in (errno.ENOENT, errno.ENOTDIR):  # too long a name, a loop, ...
+            raise ConfigError(
+                f"output directory '{folder}' cannot be used: {error.strerror}"
+            ) from None
+    while not probe.exists():
+        if probe.parent == probe:
+            break
+        probe = probe.parent
+    if not probe.is_dir() or not os.access(probe, os.W_OK | os.X_OK):
+        reason = "not a folder" if probe.exists() and not probe.is_dir() else "permission denied"
+        raise ConfigError(f"output directory '{folder}' is not writable: {reason} ('{probe}')")
+    return folder
+
+
+def prepare_output_dir(folder: Path) -> Path:
+    """Create ``folder`` if needed and check that it is writable, before any work is done."""
+    folder = Path(folder)
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        with tempfile.NamedTemporaryFile(dir=folder, prefix=".probe-"):
+            pass
+    except OSError as error:
+        reason = error.strerror or str(error)
+        raise ConfigError(f"output directory '{folder}' is not writable: {reason}") from None
+    return folder
+
+
+def write_toml(path: Path, document: dict[str, Any]) -> Path:
+    """Atomic TOML file."""
+    return atomic_write_bytes(path, toml_bytes(document))
+
+
+def toml_bytes(document: dict[str, Any]) -> bytes:
+    """A TOML document as UTF-8 bytes."""
+    return tomli_w.dumps(document).encode()
+
+
+def write_figure(path: Path, figure: Any) -> Path:
+    """Atomic PNG of a matplotlib figure."""
+    buffer = io.BytesIO()
+    figure.savefig(buffer, format="png", dpi=120)
+    return atomic_write_bytes(path, buffer.getvalue())
+
+
+@contextmanager
+def signals_held() -> Iterator[None]:
+    """Hold SIGINT, SIGTERM and SIGHUP while one output time is written, so that an
+    interruption lands between output times and every format holds the same ones; a signal that
+    came meanwhile is handed to its previous handler on leaving (only in the main thread, where
+    Python runs signal handlers)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    pending: list[int] = []
+
+    def hold(number: int, frame: Any) -> None:
+        pending.append(number)
+
+    names = ("SIGINT", "SIGTERM", "SIGHUP")
+    numbers = [getattr(signal, n) for n in names if hasattr(signal, n)]
+    previous = {number: signal.signal(number, hold) for number in numbers}
+    try:
+        yield
+    finally:
+        for number, handler in previous.items():
+            signal.signal(number, handler)
+        for number in pending[:1]:
+            handler = previous[number]
+            if callable(handler):
+                handler(number, None)
+            elif handler == signal.SIG_DFL:
+                signal.raise_signal(number)
