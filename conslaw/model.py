@@ -218,6 +218,12 @@ class Model(ABC):
         """Exact cell averages of one of this model's :attr:`initial_kinds`."""
         raise NotImplementedError(f"model '{self.name}' has no initial condition '{kind}'")
 
+    def figures(self) -> dict[str, Callable[..., Any]]:
+        """Figures of a run that only this model can draw: file name -> ``f(result)`` returning
+        a matplotlib ``Figure`` (``conslaw run`` writes them with the others,
+        :func:`conslaw.plotting.figures_for`). None by default."""
+        return {}
+
     def kernel_variant(self) -> str:
         """In a few words, which of the model's compiled kernels these parameters need, where
         parameters choose between several (:meth:`capabilities`); "" if there is one. Said when

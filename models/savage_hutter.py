@@ -16,7 +16,7 @@ and the friction magnitude ``h tan delta (cos zeta + lambda kappa u^2)`` at the 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
@@ -320,6 +320,12 @@ class SavageHutter(DepthAveragedModel):
         values[K_PASSIVE] = self.k_passive
         values[TAN_DELTA] = math.tan(math.radians(p.delta))
         return np.array(values)
+
+    def figures(self) -> dict[str, Callable[..., Any]]:
+        """``chute.png``: the chute in elevation with the flowing mass on it."""
+        from conslaw_models.chute_figure import chute_figure
+
+        return {"chute.png": chute_figure}
 
     def kernel_variant(self) -> str:
         """phi = delta (one earth-pressure coefficient) or phi > delta (the active/passive

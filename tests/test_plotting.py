@@ -10,8 +10,9 @@ import numpy as np
 import pytest
 
 import conslaw
-from conslaw.plotting import FILM_FRACTION, _display_rows, chute_figure, profiles_figure
+from conslaw.plotting import FILM_FRACTION, _display_rows, profiles_figure
 from conslaw.result import RunResult
+from conslaw_models.chute_figure import chute_figure
 
 
 @pytest.fixture(scope="module")

@@ -97,9 +97,8 @@ def _fig3_facts(result: RunResult) -> list[str]:
 
 
 def _fig3_chute(result: RunResult) -> Any:
-    from conslaw.plotting import chute_figure
 
-    return chute_figure(result, FIG3_TIMES)
+    return result.model.figures()["chute.png"](result, FIG3_TIMES)
 
 
 def _fig3_profiles(result: RunResult) -> Any:
