@@ -112,37 +112,6 @@ class _ProgressBar:
             self.enabled = False
 
 
-class _SignalInterrupt(KeyboardInterrupt):
-    """SIGINT, SIGTERM or SIGHUP turned into a KeyboardInterrupt, so a run stops as on Ctrl-C."""
-
-    def __init__(self, signal_number: int) -> None:
-        super().__init__(signal_number)
-        self.signal_number = signal_number
-
-
-class _SignalLatch:
-    """The signal handler of a run: it raises :class:`_SignalInterrupt` at once, as Ctrl-C does,
-    and also remembers the signal, so that :meth:`check` raises it again at the run's next
-    progress report or output time if the first exception was swallowed. An exception raised by
-    a signal handler lands wherever Python happens to be, and code that catches or clears errors
-    there can drop it. A SIGINT was once lost in a run under the test suite (``python -m
-    conslaw.cli``, cold kernel cache): the run went on to its end; where it was lost is not
-    known."""
-
-    def __init__(self) -> None:
-        self.received: int | None = None
-
-    def __call__(self, signal_number: int, frame: Any) -> None:
-        if self.received is None:
-            self.received = signal_number
-        raise _SignalInterrupt(signal_number)
-
-    def check(self) -> None:
-        """Raise :class:`_SignalInterrupt` if a signal came."""
-        if self.received is not None:
-            raise _SignalInterrupt(self.received)
-
-
 def _command_run(args: argparse.Namespace) -> int:
     from conslaw.config import load_scene
     from conslaw.figure_worker import FigureWorker, write_figures
@@ -169,13 +138,12 @@ def _command_run(args: argparse.Namespace) -> int:
 
 def _run_scene(scene: Scene, out: Path, writer: RunWriter) -> int:
     """Run ``scene`` writing through ``writer``; the exit code (see :func:`_command_run`)."""
-    import signal
-
+    from conslaw import signals
     from conslaw.errors import ConslawError, RunInterrupted
     from conslaw.simulation import simulate
 
     bar = _ProgressBar(scene.t_end)
-    latch = _SignalLatch()
+    latch = signals.SignalLatch()
 
     def progress(t: float, steps: int) -> None:
         latch.check()
@@ -185,10 +153,9 @@ def _run_scene(scene: Scene, out: Path, writer: RunWriter) -> int:
         writer(result)
         latch.check()
 
-    signals = [s for s in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, s)]
-    previous = {name: signal.signal(getattr(signal, name), latch) for name in signals}
     try:
-        result = simulate(scene, progress=progress, on_output=on_output, notice=_notice)
+        with signals.handled(latch):
+            result = simulate(scene, progress=progress, on_output=on_output, notice=_notice)
     except RunInterrupted as interrupted:
         bar.close()
         if writer.last_time != interrupted.last_output:  # the signal came as it finished one
@@ -206,8 +173,6 @@ def _run_scene(scene: Scene, out: Path, writer: RunWriter) -> int:
         raise type(failure)(f"{failure}; {kept}") from None
     finally:
         bar.close()
-        for name, handler in previous.items():
-            signal.signal(getattr(signal, name), handler)
     try:
         files = writer.finish(result)
     except ConslawError as failure:

@@ -23,6 +23,8 @@ from multiprocessing.connection import Connection
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from conslaw.signals import STOP_SIGNALS
+
 if TYPE_CHECKING:
     from multiprocessing.process import BaseProcess
 
@@ -99,8 +101,9 @@ def _serve(connection: Connection, parent_end: Connection) -> None:
     try:
         # Inside the try: a stop that comes at once (a run failing at its first step) must not
         # escape to multiprocessing, which would print a traceback.
-        for name in ("SIGTERM", "SIGHUP"):
-            signal.signal(getattr(signal, name), _stop)
+        for number in STOP_SIGNALS:
+            if number != signal.SIGINT:
+                signal.signal(number, _stop)
         _die_with_the_parent()
         _warm_up()
         job = connection.recv()

@@ -1,17 +1,12 @@
 """Writing files safely: atomically (a temporary name, then a rename), several at once as one
-commit, into a checked output folder, with signals held while an output time is written
-(docs/output.md, "Nothing lost")."""
+commit, into a checked output folder (docs/output.md, "Nothing lost")."""
 
 from __future__ import annotations
 
 import errno
 import io
 import os
-import signal
 import tempfile
-import threading
-from collections.abc import Iterator
-from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -163,33 +158,3 @@ def write_figure(path: Path, figure: Any) -> Path:
     buffer = io.BytesIO()
     figure.savefig(buffer, format="png", dpi=120)
     return atomic_write_bytes(path, buffer.getvalue())
-
-
-@contextmanager
-def signals_held() -> Iterator[None]:
-    """Hold SIGINT, SIGTERM and SIGHUP while one output time is written, so that an
-    interruption lands between output times and every format holds the same ones; a signal that
-    came meanwhile is handed to its previous handler on leaving (only in the main thread, where
-    Python runs signal handlers)."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    pending: list[int] = []
-
-    def hold(number: int, frame: Any) -> None:
-        pending.append(number)
-
-    names = ("SIGINT", "SIGTERM", "SIGHUP")
-    numbers = [getattr(signal, n) for n in names if hasattr(signal, n)]
-    previous = {number: signal.signal(number, hold) for number in numbers}
-    try:
-        yield
-    finally:
-        for number, handler in previous.items():
-            signal.signal(number, handler)
-        for number in pending[:1]:
-            handler = previous[number]
-            if callable(handler):
-                handler(number, None)
-            elif handler == signal.SIG_DFL:
-                signal.raise_signal(number)

@@ -22,8 +22,9 @@ try:
 except ImportError:  # Windows: no advisory locks, a folder is not claimed
     fcntl = None  # type: ignore[assignment]
 
+from conslaw import signals
 from conslaw.output.fields import SERIES, cell_fields, mesh_points_cells, output_field_data
-from conslaw.output.files import OutputCommit, prepare_output_dir, signals_held, toml_bytes
+from conslaw.output.files import OutputCommit, prepare_output_dir, toml_bytes
 from conslaw.output.npz import states_bytes
 from conslaw.output.tables import fields_csv, margins_csv_bytes
 from conslaw.output.vtu import pvd_document, vtu_bytes
@@ -154,7 +155,7 @@ class RunWriter:
             self.claim()
         commit = OutputCommit()
         kept = (dict(self._files), len(self._xdmf), len(self._pvd))
-        with signals_held():
+        with signals.held():
             try:
                 self._check_folder()
                 if first:
@@ -257,7 +258,7 @@ class RunWriter:
             self.release()
             return []
         try:
-            with signals_held():
+            with signals.held():
                 self._check_folder()
                 commit = OutputCommit()
                 try:
