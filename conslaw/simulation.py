@@ -245,6 +245,12 @@ def steps_needed(scene: Scene, since: tuple[float, int], t: float, steps: int) -
     return steps + (steps - since[1]) * (scene.t_end - t) / elapsed
 
 
+def hopeless_factor(steps: int) -> float:
+    """How many times ``max_steps`` a run may need before it is stopped, after ``steps`` steps:
+    ``HOPELESS_FACTOR``, or ``CONFIDENT_FACTOR`` once the rate is firm."""
+    return HOPELESS_FACTOR if steps < CONFIDENT_AFTER_STEPS else CONFIDENT_FACTOR
+
+
 def cannot_finish(scene: Scene, since: tuple[float, int], t: float, steps: int) -> bool:
     """Whether a run at ``t`` after ``steps`` steps would need more than ``HOPELESS_FACTOR *
     max_steps`` steps in all at its recent rate (:func:`steps_needed`; a domain far too small
@@ -253,7 +259,7 @@ def cannot_finish(scene: Scene, since: tuple[float, int], t: float, steps: int) 
     finally reaches ``max_steps``."""
     if steps < HOPELESS_AFTER_STEPS:
         return False
-    factor = HOPELESS_FACTOR if steps < CONFIDENT_AFTER_STEPS else CONFIDENT_FACTOR
+    factor = hopeless_factor(steps)
     return bool(steps_needed(scene, since, t, steps) > factor * scene.max_steps)
 
 
@@ -270,7 +276,7 @@ def step_limit_message(
         need_text = f"about {need:.0f}" if need < 1e6 else f"about {need:.2g}"
     else:
         need_text = "unboundedly many"
-    factor = HOPELESS_FACTOR if steps < CONFIDENT_AFTER_STEPS else CONFIDENT_FACTOR
+    factor = hopeless_factor(steps)
     why = (
         f"more than {factor:g} times scene key 'max_steps' = {scene.max_steps}"
         if early

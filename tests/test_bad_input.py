@@ -46,7 +46,7 @@ def scene_file(text: str | bytes) -> dict[str, str | bytes]:
     return {"bad.toml": text}
 
 
-def table_chute(rows: str) -> tuple[list[str], dict[str, str]]:
+def table_chute(rows: str | bytes) -> tuple[list[str], dict[str, str | bytes]]:
     """A Savage–Hutter run on the chute table ``chute.csv`` with content ``rows``: (arguments,
     files)."""
     args = ["run", "sh-runout-shock", "--set", "parameters.chute=table", "--set",
@@ -66,15 +66,6 @@ BIG = "1" + "0" * 400
 ANGLES = "x,zeta\n" + "".join(f"{float(i)},40.0\n" for i in range(21))
 SHL = ["run", "sh-similarity-lagrangian", "--set"]
 SINE = ["run", "burgers-sine", "--set"]
-
-
-def sh_table(rows: str | bytes) -> tuple[list[str], dict[str, str | bytes]]:
-    """A short Savage–Hutter run on the chute table ``chute.csv`` holding ``rows``."""
-    args = [
-        *SH, "parameters.chute=table", "--set", "t_end=0.5", "--set",
-        'parameters.chute_file="chute.csv"', "--set", "parameters.chute_extend=true",
-    ]  # fmt: skip
-    return args, {"chute.csv": rows}
 
 
 def bad(
@@ -532,44 +523,44 @@ CASES: list[BadInput] = [
     # ---- chute tables (tracebacks, multi-line messages)
     bad(
         "chute-ragged-row",
-        sh_table(ANGLES + "21,40,7\n"),
+        table_chute(ANGLES + "21,40,7\n"),
         ["cannot read 'chute.csv'", "Line #23 (got 3 columns instead of 2)"],
     ),
     bad(
         "chute-profile-overflows",
-        sh_table("x,z\n" + "".join(f"{i},{-1e300 * i}\n" for i in range(21))),
+        table_chute("x,z\n" + "".join(f"{i},{-1e300 * i}\n" for i in range(21))),
         ["cannot fit a smooth bed", "chute.csv", "check its units and spacing"],
     ),
     bad(
         "chute-profile-spacing-1e-12",
-        sh_table("x,z\n" + "".join(f"{i * 1e-12},{-i * 1e-12}\n" for i in range(21))),
+        table_chute("x,z\n" + "".join(f"{i * 1e-12},{-i * 1e-12}\n" for i in range(21))),
         ["cannot fit a smooth bed", "ill-posed"],
     ),
     bad(
         "chute-nul-bytes",
-        sh_table(b"x,zeta\n" + b"\0" * 1000),
+        table_chute(b"x,zeta\n" + b"\0" * 1000),
         ["cannot read 'chute.csv'", "got 1 columns"],
     ),
     bad(
         "chute-extra-column",
-        sh_table("x,zeta,foo\n" + "".join(f"{i},40,1\n" for i in range(21))),
+        table_chute("x,zeta,foo\n" + "".join(f"{i},40,1\n" for i in range(21))),
         ["got x,zeta,foo"],
     ),
-    bad("chute-semicolons", sh_table(ANGLES.replace(",", ";")), ["cannot read 'chute.csv'"]),
+    bad("chute-semicolons", table_chute(ANGLES.replace(",", ";")), ["cannot read 'chute.csv'"]),
     bad(
         "chute-angle-minus-95",
-        sh_table(ANGLES.replace(",40.0", ",-95.0")),
+        table_chute(ANGLES.replace(",40.0", ",-95.0")),
         ["angles must be in (-90, 90)"],
     ),
     bad(
         "chute-latin1",
-        sh_table(
+        table_chute(
             ("x,zeta\n# h\xf6he\n" + "".join(f"{i},40\n" for i in range(21))).encode("latin-1")
         ),
         ["cannot read 'chute.csv'", "not UTF-8"],
     ),
-    bad("chute-a-folder", sh_table(FOLDER), ["'chute.csv' is not a regular file"]),
-    bad("chute-duplicate-x", sh_table(ANGLES + "20.0,40\n"), ["x must be strictly increasing"]),
+    bad("chute-a-folder", table_chute(FOLDER), ["'chute.csv' is not a regular file"]),
+    bad("chute-duplicate-x", table_chute(ANGLES + "20.0,40\n"), ["x must be strictly increasing"]),
     # ---- convergence, compare, warm, show: nothing made before the arguments are checked
     bad(
         "convergence-without-exact-makes-no-folder",
