@@ -210,15 +210,26 @@ def test_still_water_over_a_wet_step_keeps_the_centred_source(
     assert abs(rate) <= 1e-12 * scale * (1.0 + abs(surface) / min(depths))
 
 
+#: Least shrink of max |hu| from 100 to 400 cells: mc measured 3.4-7.6x over the three surfaces;
+#: the others 2.3x (weno5, surface 0.3) to 9.9x (docs/design.md, "Shorelines").
+ISLAND_SHRINK = {"mc": 2.5, "none": 2.0, "minmod": 2.0, "superbee": 2.0, "vanleer": 2.0,
+                 "weno3": 2.0, "weno5": 2.0}  # fmt: skip
+
+
+@pytest.mark.parametrize("reconstructor", sorted(ISLAND_SHRINK))
 @pytest.mark.parametrize("surface", [0.1, 0.3, 0.45])
-def test_a_lake_with_a_dry_island_stays_still_to_first_order(surface: float) -> None:
+def test_a_lake_with_a_dry_island_stays_still_to_first_order(
+    surface: float, reconstructor: str
+) -> None:
     """Measured in docs/design.md, "Well-balanced bed": not round-off (the staggered averaging
-    moves water across the shoreline), but no velocity spikes at the shoreline and O(dx)."""
+    moves water across the shoreline), but no velocity spikes at the shoreline and a residual
+    that shrinks with the grid, for every reconstructor."""
     largest = {}
     for n_cells in (100, 400):
         result = conslaw.run(
-            "lake-at-rest", n_cells=n_cells, t_end=5.0, **{"initial.surface": surface}
-        )
+            "lake-at-rest", n_cells=n_cells, t_end=5.0, reconstructor=reconstructor,
+            **{"initial.surface": surface},
+        )  # fmt: skip
         depth, momentum = result.final.q
         wet = depth >= 1e-6
         assert depth.min() >= 0.0
@@ -226,7 +237,7 @@ def test_a_lake_with_a_dry_island_stays_still_to_first_order(surface: float) -> 
         largest[n_cells] = np.abs(momentum).max()
     print(f"surface {surface}: max |hu| {largest[100]:.2e} (N=100), {largest[400]:.2e} (N=400)")
     assert largest[100] <= 4e-4
-    assert largest[400] <= largest[100] / 2.5
+    assert largest[400] <= largest[100] / ISLAND_SHRINK[reconstructor]
 
 
 def test_a_flat_bed_compiles_no_source() -> None:
