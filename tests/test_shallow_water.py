@@ -240,6 +240,25 @@ def test_a_lake_with_a_dry_island_stays_still_to_first_order(
     assert largest[400] <= largest[100] / ISLAND_SHRINK[reconstructor]
 
 
+def test_a_pond_in_a_hollow_stays_still_to_first_order() -> None:
+    """The other partly dry bed: water only inside a hollow (bump_height < 0, surface below 0).
+    Measured: max |hu| 3.2e-4 (N = 100), 5.5e-5 (N = 400); L1 against still water 1.2e-4,
+    1.2e-5."""
+    largest, errors = {}, {}
+    for n_cells in (100, 400):
+        result = conslaw.run(
+            "lake-at-rest", n_cells=n_cells, t_end=5.0,
+            **{"initial.surface": -0.2, "parameters.bump_height": -0.5},
+        )  # fmt: skip
+        depth, momentum = result.final.q
+        wet = depth >= 1e-6
+        assert depth.min() >= 0.0 and depth[0] == 0.0 and depth[n_cells // 2] > 0.2
+        assert np.abs(momentum[wet] / depth[wet]).max() <= 0.1
+        largest[n_cells], errors[n_cells] = np.abs(momentum).max(), result.headline_error()
+    assert largest[100] <= 4e-4 and largest[400] <= largest[100] / 2.5
+    assert errors[400] <= errors[100] / 4.0  # about first order or better (measured 9.8x)
+
+
 def test_a_flat_bed_compiles_no_source() -> None:
     model = ShallowWater(g=2.0)
     assert model.capabilities()["source"] is False
