@@ -47,10 +47,32 @@ def earth_pressure_coefficients(phi: float, delta: float) -> tuple[float, float]
 
     Angles in radians, ``0 <= delta <= phi < pi/2``. For ``delta = phi`` both equal
     ``2 sec^2 phi - 1``.
+
+    Evaluated without cancellation (docs/design.md, "Earth pressure"): with
+    ``w = sqrt(sin(phi + delta) sin(phi - delta))`` (``= cos(delta) sqrt(1 - cos^2 phi
+    sec^2 delta)``, since ``cos^2 delta - cos^2 phi = sin(phi + delta) sin(phi - delta)``),
+
+    ``K_act = (4 sin^2 delta + cos^2 delta cos^2 phi) / ((1 + sin^2 delta + w cos delta)
+    cos delta (cos delta + w))`` and ``K_pass = 2 (cos delta + w) / (cos delta cos^2 phi) - 1``.
+
+    The textbook form subtracts nearly equal numbers as ``phi -> 90`` (``K_act`` came out
+    -1 instead of ``tan^2 delta`` at ``phi = 90 - 1e-6``) and as ``phi -> delta``.
     """
-    secant2 = 1.0 / math.cos(phi) ** 2
-    root = math.sqrt(max(0.0, 1.0 - math.cos(phi) ** 2 / math.cos(delta) ** 2))
-    return 2.0 * secant2 * (1.0 - root) - 1.0, 2.0 * secant2 * (1.0 + root) - 1.0
+    if phi == delta:
+        # One coefficient; the same floating-point expression as always for this case.
+        k = 2.0 / math.cos(phi) ** 2 - 1.0
+        return k, k
+    cos_delta, sin_delta = math.cos(delta), math.sin(delta)
+    cos_phi, sin_phi = math.cos(phi), math.sin(phi)
+    cos_phi2 = cos_phi**2
+    # sin(phi + delta) by its sum formula (all terms >= 0): accurate also for phi + delta near pi.
+    sin_sum = sin_phi * cos_delta + cos_phi * sin_delta
+    w = math.sqrt(max(0.0, sin_sum * math.sin(phi - delta)))
+    k_active = (4.0 * sin_delta**2 + cos_delta**2 * cos_phi2) / (
+        (1.0 + sin_delta**2 + w * cos_delta) * cos_delta * (cos_delta + w)
+    )
+    k_passive = 2.0 * (cos_delta + w) / (cos_delta * cos_phi2) - 1.0
+    return k_active, k_passive
 
 
 @njit(cache=True)

@@ -104,7 +104,8 @@ def dam_break() -> None:
 
 def run_out() -> None:
     """sh-runout-shock with phi = 32, 35, 40: when every momentum is 0, whether the state then
-    stays bit for bit, and the mass drift."""
+    stays bit for bit, and the mass drift; then the same with output times to t = 3200 (where
+    the last cell stops depends on the output times, which shorten step pairs)."""
     times = [0.0, 4.0, 8.0, 12.0, 16.0, 20.0, 50.0, 100.0, 200.0]
     print("| phi | moving cells at t = 20, 50, 100, 200 | t=200 equals t=100 bit for bit | mass |")
     print("|---|---|---|---|")
@@ -115,6 +116,18 @@ def run_out() -> None:
         moving = [int(np.count_nonzero(s.q[1])) for s in result.states[5:]]
         same = np.array_equal(result.states[-1].q, result.states[-2].q)
         print(f"| {phi} | {moving} | {same} | {result.mass_drift[0]:.1e} |")
+    long_times = [0.0, 50.0, 100.0, 200.0, 400.0, 800.0, 1600.0, 3200.0]
+    print()
+    print("| phi | moving cells at t = 50, 100, ..., 3200 | deepest moving cell at t = 3200 |")
+    print("|---|---|---|")
+    for phi in (32.0, 35.0, 40.0):
+        result = conslaw.run(
+            "sh-runout-shock", parameters__phi=phi, output_times=long_times, t_end=3200.0
+        )
+        moving = [int(np.count_nonzero(s.q[1])) for s in result.states[1:]]
+        final = result.states[-1].q
+        deepest = float(final[0][final[1] != 0.0].max(initial=0.0))
+        print(f"| {phi} | {moving} | {deepest:.1e} |")
 
 
 def cap() -> None:

@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings, strategies as st
 from test_cli import cli
 
 import conslaw
@@ -31,6 +32,33 @@ def test_earth_pressure_coefficients() -> None:
     assert k_act == pytest.approx((1 - math.sin(phi)) / (1 + math.sin(phi)), rel=1e-13)
     assert k_pass == pytest.approx((1 + math.sin(phi)) / (1 - math.sin(phi)), rel=1e-13)
     assert SavageHutter(earth_pressure="isotropic").k_active == 1.0
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    delta=st.floats(0.0, 89.99),
+    above=st.floats(0.0, 1.0),
+    gap=st.sampled_from([0.0, 1e-12, 1e-9, 1e-6, 1e-3, 1.0]),
+)
+def test_earth_pressure_coefficients_to_the_last_bits_over_the_whole_range(
+    delta: float, above: float, gap: float
+) -> None:
+    """Eq. (6) against 150-digit arithmetic for every ``0 <= delta <= phi < 90`` degrees,
+    including ``phi`` within 1e-12 of ``delta`` and of 90 (where the textbook form cancels)."""
+    mpmath = pytest.importorskip("mpmath")
+    phi_degrees = min(delta + gap + above * (90.0 - delta - gap), 90.0 - 1e-9)
+    if phi_degrees < delta:
+        phi_degrees = delta
+    phi, delta_rad = math.radians(phi_degrees), math.radians(delta)
+    k_act, k_pass = earth_pressure_coefficients(phi, delta_rad)
+    with mpmath.workdps(150):
+        p, d = mpmath.mpf(phi), mpmath.mpf(delta_rad)
+        root = mpmath.sqrt(max(0, 1 - mpmath.cos(p) ** 2 / mpmath.cos(d) ** 2))
+        exact_act = 2 / mpmath.cos(p) ** 2 * (1 - root) - 1
+        exact_pass = 2 / mpmath.cos(p) ** 2 * (1 + root) - 1
+        assert abs(k_act - exact_act) <= 1e-13 * abs(exact_act) + 1e-300
+        assert abs(k_pass - exact_pass) <= 1e-13 * abs(exact_pass)
+    assert 0.0 <= k_act <= k_pass
 
 
 def test_similarity_spread_solves_its_ode_and_conserves_mass() -> None:
