@@ -36,13 +36,30 @@ JOIN_SECONDS = 5.0
 _PR_SET_PDEATHSIG = 1
 
 
-class _StoppedError(BaseException):
-    """SIGTERM or SIGHUP in the child: unwinds it (a BaseException, so that no library's
-    ``except Exception`` swallows it); see :func:`_remove_temporary_files`."""
+class _StoppedError(SystemExit):
+    """SIGTERM or SIGHUP in the child: unwinds it (not an ``Exception``, so that no library's
+    ``except Exception`` swallows it); see :func:`_remove_temporary_files`. A ``SystemExit``:
+    should one escape :func:`_serve` (a stop between two of its statements), multiprocessing
+    ends the child quietly instead of printing a traceback."""
 
 
 def _stop(signal_number: int, frame: Any) -> None:
+    """Unwind the child at the first stop signal; later ones are ignored, so that the unwinding
+    (and its ``finally``) is never interrupted a second time."""
+    for number in STOP_SIGNALS:
+        if number != signal.SIGINT:
+            signal.signal(number, signal.SIG_IGN)
     raise _StoppedError
+
+
+def _quiet_handlers() -> None:
+    """Restore the default action of the stop signals, so that a late one ends the child
+    without a traceback. A stop that arrives while this runs (``_stop`` still installed) raises
+    inside it: caught here, as the child is ending anyway."""
+    with contextlib.suppress(_StoppedError):
+        for number in STOP_SIGNALS:
+            if number != signal.SIGINT:
+                signal.signal(number, signal.SIG_DFL)
 
 
 def _warm_up() -> None:
@@ -123,7 +140,7 @@ def _serve(connection: Connection, parent_end: Connection) -> None:
             connection.send(("error", f"{type(error).__name__}: {error}"))
     finally:
         # From here a late signal ends the child without a traceback.
-        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+        _quiet_handlers()
         connection.close()
 
 

@@ -406,7 +406,9 @@ class SavageHutter(DepthAveragedModel):
         if values["radius"] <= 0 or values["height"] < 0 or values["thin_layer"] < 0:
             raise ConfigError("initial: need radius > 0, height >= 0 and thin_layer >= 0")
         cap = cap_profile(values["centre"], values["radius"], values["height"])
-        h = piecewise_cell_averages(grid.edges, *cap)[0] + values["thin_layer"]
+        h = piecewise_cell_averages(grid.edges, *cap)[0]
+        # The cap is symmetric about its centre: so are its averages, bit for bit.
+        h = grid.mirror_symmetric(h, values["centre"]) + values["thin_layer"]
         return np.ascontiguousarray(np.vstack([h, np.zeros_like(h)]))
 
     def exact_solution(

@@ -177,9 +177,36 @@ def similarity() -> None:
         print(f"| {phi} | orders of the margin error | | | | {orders[0]:.2f}, {orders[1]:.2f} |")
 
 
+def passive_limit() -> None:
+    """The passive pressure applied in full at a cap's foot held by friction (docs/validation.md,
+    "Wrong answers with phi well above delta"): the foot's velocity after the first step, and
+    the largest speed at t = 0.5 against the Lagrangian scheme's."""
+    from conslaw.config import load_scene
+    from conslaw.simulation import build
+
+    print("| phi | delta | K_pass/K_act | foot u after step 1 | NT max u | Lagrangian max u |")
+    print("|---|---|---|---|---|---|")
+    for phi, delta, t_end in ((45.0, 30.0, 0.5), (85.0, 60.0, 0.05)):
+        overrides = {"parameters.phi": phi, "parameters.delta": delta, "parameters.epsilon": 1.0}
+        model, _, scheme, initial, _ = build(load_scene("sh-at-rest", overrides))
+        first = scheme.reference_step(initial, scheme.stable_dt(initial))  # type: ignore[attr-defined]
+        depth, momentum = first.q
+        foot = float(np.max(np.where(depth > 0.0, momentum / np.maximum(depth, 1e-300), 0.0)))
+        speeds = []
+        for scheme_name in ("nessyahu-tadmor", "lagrangian"):
+            result = conslaw.run(
+                "sh-at-rest", scheme=scheme_name, t_end=t_end, output_times=[0.0, t_end],
+                parameters__phi=phi, parameters__delta=delta, parameters__epsilon=1.0,
+            )  # fmt: skip
+            h, m = result.states[-1].q
+            speeds.append(float(np.max(np.abs(np.where(h > 1e-8, m / np.maximum(h, 1e-300), 0)))))
+        ratio = model.k_passive / model.k_active  # type: ignore[attr-defined]
+        print(f"| {phi} | {delta} | {ratio:.0f} | {foot:.2f} | {speeds[0]:.3g} | {speeds[1]:.3g} |")
+
+
 CHECKS = {
     "uniform": uniform, "dam-break": dam_break, "run-out": run_out, "cap": cap,
-    "similarity": similarity,
+    "similarity": similarity, "passive-limit": passive_limit,
 }  # fmt: skip
 
 if __name__ == "__main__":

@@ -134,6 +134,42 @@ def test_close_stops_a_child_that_got_no_run() -> None:
     assert not worker.process.is_alive()
 
 
+def _stopped_at_once() -> None:
+    raise figure_worker._StoppedError
+
+
+def test_a_stop_that_escapes_the_child_ends_it_quietly(capfd: pytest.CaptureFixture[str]) -> None:
+    """A stop signal between two statements of the child, outside its ``try`` (a run failing
+    at its first step stops the child while it starts or ends), used to make multiprocessing
+    print a traceback under the run's one-line error (seen in CI: "Process conslaw-figures:
+    ... _StoppedError"). The stop is a ``SystemExit``: the child ends quietly."""
+    import multiprocessing
+
+    process = multiprocessing.get_context("fork").Process(target=_stopped_at_once)
+    process.start()
+    process.join(30)
+    assert process.exitcode == 0
+    assert "Traceback" not in capfd.readouterr().err
+
+
+def test_a_stop_while_the_child_restores_its_handlers_is_caught(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The child's last step restores the default action of the stop signals; a stop that
+    arrives during it (the handler still installed) raises there, and is caught."""
+    import signal
+
+    calls: list[int] = []
+
+    def interrupted(number: int, handler: object) -> object:
+        calls.append(number)
+        raise figure_worker._StoppedError
+
+    monkeypatch.setattr(signal, "signal", interrupted)
+    figure_worker._quiet_handlers()
+    assert calls
+
+
 def test_no_child_where_a_fork_is_unsafe(monkeypatch: pytest.MonkeyPatch) -> None:
     """With other threads running (their locks would be copied) the figures stay in the
     parent."""

@@ -89,6 +89,14 @@ def assert_same_run(compiled: AdvanceResult, reference: AdvanceResult) -> None:
         # passive (the model's dynamic coefficients, also at the margins).
         ("sh-similarity-ft", {"n_cells": 60, "t_end": 4.0, "parameters.zeta": 25.0,
                               "parameters.phi": 35.0}, 0),
+        # A pile spreading on a level bed with phi >> delta: friction holds its top, where the
+        # earth pressure may take any value of its rest range (rule 3 of docs/design.md, "Earth
+        # pressure"). The compiled kernel lacked that rule: its margins ran off at 2.8 instead
+        # of 0.75.
+        ("sh-at-rest", {"scheme": "front-tracking", "n_cells": 101, "t_end": 0.3,
+                        "output_times": [0.3], "parameters.phi": 45.0, "parameters.delta": 10.0,
+                        "parameters.zeta": 0.0, "parameters.epsilon": 10.0,
+                        "boundary.left": "wall", "boundary.right": "wall"}, 0),
     ],
 )  # fmt: skip
 def test_compiled_equals_reference(

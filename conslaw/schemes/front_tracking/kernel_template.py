@@ -35,6 +35,7 @@ from conslaw.schemes.nessyahu_tadmor.kernel_template import (
     HAS_DYNAMIC_COEFFICIENTS,
     HAS_INTERFACE_COEFFICIENTS,
     HAS_RESISTANCE,
+    HAS_REST_COEFFICIENTS,
     HAS_SOURCE,
     MAX_RETRIES,
     MOMENTUM,
@@ -42,7 +43,11 @@ from conslaw.schemes.nessyahu_tadmor.kernel_template import (
     NG,
     NPARAMS,
     NV,
+    REST_IMPULSE,
+    REST_MOMENTUM,
+    REST_SPAN,
     SLOPE_CODE,
+    WORK_SIZE,
     _admissible_point,
     _coefficients_point,
     _correct_point,
@@ -52,6 +57,7 @@ from conslaw.schemes.nessyahu_tadmor.kernel_template import (
     _jacobian_point,
     _max_speed_point,
     _resistance_point,
+    _rest_coefficients_point,
     _source_point,
     bound_momentum_slope,
     bounded_tail_momentum,
@@ -59,6 +65,7 @@ from conslaw.schemes.nessyahu_tadmor.kernel_template import (
     col,
     copy_cells,
     finished_slope,
+    hold_static_runs,
     in_thin_tail,
     interface_fluxes,
     load_params,
@@ -66,6 +73,7 @@ from conslaw.schemes.nessyahu_tadmor.kernel_template import (
     local_vector,
     predict_point,
     resist,
+    rest_slot,
     source_step_limit,
     stencil_slopes,
 )
@@ -91,7 +99,14 @@ FT_FLUX = NV
 FT_QUARTER_LEFT = 2 * NV
 FT_QUARTER_RIGHT = 3 * NV
 FT_VELOCITY = 4 * NV
-FT_WORK_ROWS = 4 * NV + 1
+# With rest coefficients (the Savage–Hutter earth pressure with phi > delta): per source cell the
+# momentum flux with the low end of the rest range and dt/dx times its change to the high end
+# (the NT kernel's FLUX_LOW, FLUX_SPAN), then from row FT_REST_ROW on the NT kernel's rest rows
+# (REST_MOMENTUM, REST_IMPULSE, REST_SPAN of hold_static_runs) as one flat array.
+FT_FLUX_LOW = 4 * NV + 1
+FT_FLUX_SPAN = 4 * NV + 2
+FT_WORK_ROWS = 4 * NV + (3 if HAS_REST_COEFFICIENTS else 1)
+FT_REST_ROW = FT_WORK_ROWS
 # The stencil values of stencil_slopes: the first flux row, filled only after the slopes.
 FT_STENCIL = FT_FLUX
 # Profile row of a margin: fitted slope S and curvature C of h = S d - C d^2, mean velocity of
@@ -109,6 +124,21 @@ P_TRIANGLE = 8
 P_SIGN = 9
 P_SIZE = 10
 WET_FLOOR = max(DRY_DEPTH, 2.2250738585072014e-308)  # np.finfo(float).tiny
+
+
+def ft_work_rows(columns):
+    """Rows of the work array with ``columns`` columns (plain Python): FT_WORK_ROWS, and with
+    rest coefficients enough more that the rows from FT_REST_ROW on, read as one flat array,
+    hold the NT kernel's rest rows for ``columns - 2`` new cells (its ``rest_slot`` layout)."""
+    if not HAS_REST_COEFFICIENTS:
+        return FT_WORK_ROWS
+    return FT_WORK_ROWS + -(-(WORK_SIZE + 3 * columns) // columns)
+
+
+@njit(cache=True)
+def rest_rows(work):
+    """The rows from FT_REST_ROW on as the flat rest array of the NT kernel (a view)."""
+    return work[FT_REST_ROW:].reshape(-1)
 
 
 @njit(cache=True)
@@ -333,6 +363,8 @@ def ft_predict(
     left = local_vector(NV)
     right = local_vector(NV)
     coefficients = local_vector(NAUX)
+    rest_low = local_vector(NAUX)
+    rest_high = local_vector(NAUX)
     matrix = local_matrix(NV)
     params = local_vector(NPARAMS)
     load_params(parameters, params)
@@ -385,6 +417,17 @@ def ft_predict(
             work[FT_FLUX + v, col(j)] = result[v]
             left[v] = predicted[v] - 0.25 * slope[v]
             right[v] = predicted[v] + 0.25 * slope[v]
+        if HAS_REST_COEFFICIENTS:
+            # As the NT kernel's rest_flux_span, into this work array's rows.
+            for k in range(NAUX):
+                rest_low[k] = aux_centre[k, c]
+                rest_high[k] = aux_centre[k, c]
+            _rest_coefficients_point(rest_low, rest_high, params)
+            _flux_point(predicted, rest_low, params, result)
+            low = result[MOMENTUM]
+            _flux_point(predicted, rest_high, params, result)
+            work[FT_FLUX_LOW, col(j)] = low
+            work[FT_FLUX_SPAN, col(j)] = dt * inverse_dx * (result[MOMENTUM] - low)
         if margin >= 0:
             margin_quarters(
                 state[DEPTH], state[MOMENTUM], x_padded[i], dx, profiles[margin], left, right
@@ -426,6 +469,7 @@ def ft_average(
     half_dt = 0.5 * dt
     ratio = dt / dx
     tails = 0
+    rest = rest_rows(work)
     for j in range(count):
         a = col(first + j)
         b = col(first + j + 1)
@@ -465,6 +509,16 @@ def ft_average(
             _source_point(left, coefficients, params, result)
             state[DEPTH] += half_dt * (source_right_d + result[DEPTH])
             state[MOMENTUM] += half_dt * (source_right_m + result[MOMENTUM])
+        if HAS_REST_COEFFICIENTS:
+            # As the NT kernel's average_cells: the momentum with the low end of the rest range
+            # at both ends, and the spans of the two centres (hold_static_runs).
+            low = (work[FT_FLUX_LOW, col(j + 1)] - work[FT_FLUX_LOW, col(j)]) - (
+                flux_right[MOMENTUM] - flux_left[MOMENTUM]
+            )
+            rest[rest_slot(rest, REST_MOMENTUM, j)] = state[MOMENTUM] - ratio * low
+            rest[rest_slot(rest, REST_IMPULSE, j)] = 0.0
+            rest[rest_slot(rest, REST_SPAN, j)] = work[FT_FLUX_SPAN, col(j)]
+            rest[rest_slot(rest, REST_SPAN, j + 1)] = work[FT_FLUX_SPAN, col(j + 1)]
         if HAS_RESISTANCE:
             for k in range(NAUX):
                 coefficients[k] = aux_right_quarter[k, a]
@@ -472,6 +526,8 @@ def ft_average(
             for k in range(NAUX):
                 coefficients[k] = aux_left_quarter[k, b]
             impulse = half_dt * (impulse + _resistance_point(left, coefficients, params))
+            if HAS_REST_COEFFICIENTS:
+                rest[rest_slot(rest, REST_IMPULSE, j)] = impulse
             state[MOMENTUM] = resist(state[MOMENTUM], impulse)
         new = col(NG + j)
         for k in range(NAUX):
@@ -580,6 +636,10 @@ def ft_step(
         src, dst, first, n_dst, dt, dx, aux_centre, aux_left_quarter, aux_right_quarter, aux_dst,
         params, work,
     )  # fmt: skip
+    if HAS_REST_COEFFICIENTS:
+        # As the NT kernel's nt_step (rule 3 of docs/design.md, "Earth pressure").
+        seam = 0 if n_dst == n_src and shift < 0 else -1
+        hold_static_runs(dst, n_dst, seam, rest_rows(work))
     confine(dst, n_dst, x_dst, dx, new_margins)
     state = local_vector(NV)
     coefficients = local_vector(NAUX)

@@ -382,9 +382,8 @@ class FrontTrackingNT(NessyahuTadmor):
                 self.left.condition.fill_left,
                 self.right.condition.fill_right,
             )
-            self._ft_work = np.zeros(
-                (self._ft_kernels.FT_WORK_ROWS, self.n_staggered + 2 * GHOSTS + 8)
-            )
+            columns = self.n_staggered + 2 * GHOSTS + 8
+            self._ft_work = np.zeros((self._ft_kernels.ft_work_rows(columns), columns))
             # The call back to Python is compiled (object mode, about 50 ms) at its first call,
             # not loaded from the cache: done here, with the kernels, not inside a timed solve.
             self._ft_kernels.margin_aux_source = self._margin_aux
