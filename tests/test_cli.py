@@ -140,3 +140,12 @@ def test_a_compile_notice_says_which_kernel_of_a_model_it_builds() -> None:
         "lake-at-rest": "shallow-water, with a bed",
         "burgers-riemann": "burgers",
     }
+
+
+def test_python_dash_m_conslaw_is_the_command() -> None:
+    """``python -m conslaw`` runs the same command as the console script."""
+    module = subprocess.run(
+        [sys.executable, "-m", "conslaw", "list"], capture_output=True, text=True, timeout=300
+    )
+    assert module.returncode == 0, module.stderr
+    assert module.stdout == cli("list").stdout

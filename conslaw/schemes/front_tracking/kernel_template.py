@@ -57,7 +57,6 @@ from conslaw.schemes.nessyahu_tadmor.kernel_template import (
     _jacobian_point,
     _max_speed_point,
     _resistance_point,
-    _rest_coefficients_point,
     _source_point,
     bound_momentum_slope,
     bounded_tail_momentum,
@@ -73,6 +72,7 @@ from conslaw.schemes.nessyahu_tadmor.kernel_template import (
     local_vector,
     predict_point,
     resist,
+    rest_flux_bounds,
     rest_slot,
     source_step_limit,
     stencil_slopes,
@@ -363,8 +363,6 @@ def ft_predict(
     left = local_vector(NV)
     right = local_vector(NV)
     coefficients = local_vector(NAUX)
-    rest_low = local_vector(NAUX)
-    rest_high = local_vector(NAUX)
     matrix = local_matrix(NV)
     params = local_vector(NPARAMS)
     load_params(parameters, params)
@@ -419,15 +417,11 @@ def ft_predict(
             right[v] = predicted[v] + 0.25 * slope[v]
         if HAS_REST_COEFFICIENTS:
             # As the NT kernel's rest_flux_span, into this work array's rows.
-            for k in range(NAUX):
-                rest_low[k] = aux_centre[k, c]
-                rest_high[k] = aux_centre[k, c]
-            _rest_coefficients_point(rest_low, rest_high, params)
-            _flux_point(predicted, rest_low, params, result)
-            low = result[MOMENTUM]
-            _flux_point(predicted, rest_high, params, result)
+            low, span = rest_flux_bounds(
+                predicted, coefficients, aux_centre, c, params, dt * inverse_dx
+            )
             work[FT_FLUX_LOW, col(j)] = low
-            work[FT_FLUX_SPAN, col(j)] = dt * inverse_dx * (result[MOMENTUM] - low)
+            work[FT_FLUX_SPAN, col(j)] = span
         if margin >= 0:
             margin_quarters(
                 state[DEPTH], state[MOMENTUM], x_padded[i], dx, profiles[margin], left, right

@@ -442,9 +442,10 @@ def tail_velocity_range(src, i, dt, aux_centre, params, state, coefficients, out
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def rest_flux_span(predicted, coefficients, aux_centre, c, params, ratio, work, j):
-    """The FLUX_LOW and FLUX_SPAN rows of source cell ``c`` (work column ``j``) from its
-    mid-step state; ``coefficients`` is scratch."""
+def rest_flux_bounds(predicted, coefficients, aux_centre, c, params, ratio):
+    """``(low, span)``: the momentum flux of source cell ``c``'s mid-step state ``predicted``
+    with the low end of the model's rest range, and ``ratio`` (``dt/dx``) times its change to
+    the high end; ``coefficients`` is scratch."""
     high = local_vector(NAUX)
     flux = local_vector(NV)
     for k in range(NAUX):
@@ -454,8 +455,16 @@ def rest_flux_span(predicted, coefficients, aux_centre, c, params, ratio, work, 
     _flux_point(predicted, coefficients, params, flux)
     low = flux[MOMENTUM]
     _flux_point(predicted, high, params, flux)
+    return low, ratio * (flux[MOMENTUM] - low)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def rest_flux_span(predicted, coefficients, aux_centre, c, params, ratio, work, j):
+    """The FLUX_LOW and FLUX_SPAN rows of source cell ``c`` (work column ``j``) from its
+    mid-step state (:func:`rest_flux_bounds`); ``coefficients`` is scratch."""
+    low, span = rest_flux_bounds(predicted, coefficients, aux_centre, c, params, ratio)
     work[slot(FLUX_LOW, j)] = low
-    work[slot(FLUX_SPAN, j)] = ratio * (flux[MOMENTUM] - low)
+    work[slot(FLUX_SPAN, j)] = span
 
 
 @njit(cache=True, error_model="numpy")
