@@ -55,7 +55,8 @@ def _stop(signal_number: int, frame: Any) -> None:
 def _quiet_handlers() -> None:
     """Restore the default action of the stop signals, so that a late one ends the child
     without a traceback. A stop that arrives while this runs (``_stop`` still installed) raises
-    inside it: caught here, as the child is ending anyway."""
+    inside it: caught here, as the child is ending anyway (the stop signals then stay ignored,
+    and the parent's ``stop`` kills a child that does not end)."""
     with contextlib.suppress(_StoppedError):
         for number in STOP_SIGNALS:
             if number != signal.SIGINT:
@@ -214,6 +215,9 @@ class FigureWorker:
         self.connection.close()
         self.process.terminate()
         self.process.join(JOIN_SECONDS)
+        if self.process.is_alive():  # it ignores a second SIGTERM while it unwinds
+            self.process.kill()
+            self.process.join()
 
 
 def write_figures(

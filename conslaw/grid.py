@@ -62,13 +62,16 @@ class Grid:
     def mirror_cells(self, centre: float) -> NDArray[np.intp] | None:
         """For each primary cell, the index of its mirror image about ``x = centre`` (-1 where
         that image is not on the grid); ``None`` if ``centre`` is neither a cell face nor a cell
-        centre (to 1e-9 cells), so that the cells do not pair up.
+        centre (to round-off), so that the cells do not pair up.
 
         Cell ``j`` covers ``[j, j + 1]`` in units of ``dx`` from ``x_min``; with
         ``s = 2 (centre - x_min) / dx`` an integer its image is cell ``s - 1 - j``.
         """
         doubled = 2.0 * (centre - self.x_min) / self.dx
-        if not np.isfinite(doubled) or abs(doubled - round(doubled)) > 2e-9:
+        if not np.isfinite(doubled) or abs(doubled) > 4.0 * self.n_cells + 4.0:
+            return None  # not a number, or so far off that no cell has its image on the grid
+        # A face or a centre to round-off only: a centre genuinely off a face is left alone.
+        if abs(doubled - round(doubled)) > 64.0 * np.finfo(float).eps * max(1.0, abs(doubled)):
             return None
         partner = round(doubled) - 1 - np.arange(self.n_cells, dtype=np.intp)
         partner[(partner < 0) | (partner >= self.n_cells)] = -1

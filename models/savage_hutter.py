@@ -56,8 +56,11 @@ def earth_pressure_coefficients(phi: float, delta: float) -> tuple[float, float]
     cos delta (cos delta + w))`` and ``K_pass = 2 (cos delta + w) / (cos delta cos^2 phi) - 1``.
 
     The textbook form subtracts nearly equal numbers as ``phi -> 90`` (``K_act`` came out
-    -1 instead of ``tan^2 delta`` at ``phi = 90 - 1e-6``) and as ``phi -> delta``.
+    0.46 instead of ``tan^2 delta``, 0 for ``delta = 0``, at ``phi = 90 - 1e-6`` degrees) and
+    as ``phi -> delta``.
     """
+    if delta > phi:
+        raise ValueError(f"delta ({delta}) must not exceed phi ({phi}): K_act/pass are not real")
     if phi == delta:
         # One coefficient; the same floating-point expression as always for this case.
         k = 2.0 / math.cos(phi) ** 2 - 1.0

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import example, given, settings, strategies as st
+from hypothesis import assume, example, given, settings, strategies as st
 
 import conslaw
 from conslaw import registry
@@ -171,6 +171,10 @@ def test_a_centred_pile_on_a_level_bed_stays_mirror_symmetric_bit_for_bit(
     mirror images by 4e-16, which the earth-pressure switch grew to 1e-3 by t = 1 (phi = 45,
     delta = 10)."""
     phi = min(delta + above * (89.9 - delta), 89.9)
+    # Only piles that move: the pressure gradient at the cap's edge (slope 2 height / radius =
+    # 0.5) beats the friction (a pile at rest is symmetric whatever the scheme does).
+    k_active = earth_pressure_coefficients(math.radians(phi), math.radians(delta))[0]
+    assume(epsilon * k_active * 0.5 > 1.5 * math.tan(math.radians(delta)))
     result = conslaw.run(
         "sh-at-rest", n_cells=n_cells, reconstructor=reconstructor, t_end=0.2,
         output_times=[0.0, 0.2], parameters__phi=phi, parameters__delta=delta,
@@ -181,8 +185,7 @@ def test_a_centred_pile_on_a_level_bed_stays_mirror_symmetric_bit_for_bit(
         depth, momentum = state.q
         np.testing.assert_array_equal(depth, depth[::-1])
         np.testing.assert_array_equal(momentum, -momentum[::-1])
-    if (delta, epsilon) == (10.0, 10.0):  # the explicit example: it spreads
-        assert np.any(result.states[-1].q[1] != 0.0)
+    assert np.any(result.states[-1].q[0] != result.states[0].q[0])  # it spread
 
 
 def test_mirror_cells_pair_up_about_a_face_or_a_centre_only() -> None:
@@ -191,6 +194,9 @@ def test_mirror_cells_pair_up_about_a_face_or_a_centre_only() -> None:
     np.testing.assert_array_equal(grid.mirror_cells(0.25)[:5], [4, 3, 2, 1, 0])
     assert np.all(grid.mirror_cells(0.25)[5:] == -1)
     assert grid.mirror_cells(0.33) is None
+    assert grid.mirror_cells(0.5 + 1e-9 * grid.dx) is None  # off a face, not by round-off
+    assert grid.mirror_cells(1e20) is None  # no image on the grid (was an OverflowError)
+    assert grid.mirror_cells(0.1 + 0.2 + 0.2) is not None  # 0.5 to round-off
     values = np.linspace(0.0, 1.0, 10) ** 2
     symmetric = grid.mirror_symmetric(values + values[::-1], 0.5)
     np.testing.assert_array_equal(symmetric, symmetric[::-1])

@@ -44,7 +44,8 @@ def test_earth_pressure_coefficients_to_the_last_bits_over_the_whole_range(
     delta: float, above: float, gap: float
 ) -> None:
     """Eq. (6) against 150-digit arithmetic for every ``0 <= delta <= phi < 90`` degrees,
-    including ``phi`` within 1e-12 of ``delta`` and of 90 (where the textbook form cancels)."""
+    including ``phi`` within 1e-12 of ``delta`` and up to 90 - 1e-9 (where the textbook form
+    cancels)."""
     mpmath = pytest.importorskip("mpmath")
     phi_degrees = min(delta + gap + above * (90.0 - delta - gap), 90.0 - 1e-9)
     if phi_degrees < delta:
