@@ -43,12 +43,17 @@ class _StoppedError(SystemExit):
     ends the child quietly instead of printing a traceback."""
 
 
+def _handle_stops(handler: Any) -> None:
+    """``handler`` for every stop signal but SIGINT (Ctrl-C is the parent's to report)."""
+    for number in STOP_SIGNALS:
+        if number != signal.SIGINT:
+            signal.signal(number, handler)
+
+
 def _stop(signal_number: int, frame: Any) -> None:
     """Unwind the child at the first stop signal; later ones are ignored, so that the unwinding
     (and its ``finally``) is never interrupted a second time."""
-    for number in STOP_SIGNALS:
-        if number != signal.SIGINT:
-            signal.signal(number, signal.SIG_IGN)
+    _handle_stops(signal.SIG_IGN)
     raise _StoppedError
 
 
@@ -58,9 +63,7 @@ def _quiet_handlers() -> None:
     inside it: caught here, as the child is ending anyway (the stop signals then stay ignored,
     and the parent's ``stop`` kills a child that does not end)."""
     with contextlib.suppress(_StoppedError):
-        for number in STOP_SIGNALS:
-            if number != signal.SIGINT:
-                signal.signal(number, signal.SIG_DFL)
+        _handle_stops(signal.SIG_DFL)
 
 
 def _warm_up() -> None:
@@ -119,9 +122,7 @@ def _serve(connection: Connection, parent_end: Connection) -> None:
     try:
         # Inside the try: a stop that comes at once (a run failing at its first step) must not
         # escape to multiprocessing, which would print a traceback.
-        for number in STOP_SIGNALS:
-            if number != signal.SIGINT:
-                signal.signal(number, _stop)
+        _handle_stops(_stop)
         _die_with_the_parent()
         _warm_up()
         job = connection.recv()

@@ -129,7 +129,8 @@ WET_FLOOR = max(DRY_DEPTH, 2.2250738585072014e-308)  # np.finfo(float).tiny
 def ft_work_rows(columns):
     """Rows of the work array with ``columns`` columns (plain Python): FT_WORK_ROWS, and with
     rest coefficients enough more that the rows from FT_REST_ROW on, read as one flat array,
-    hold the NT kernel's rest rows for ``columns - 2`` new cells (its ``rest_slot`` layout)."""
+    hold the NT kernel's rest rows (its ``rest_slot`` layout, a stride of at least ``columns``,
+    more than the new cells of any step) after its unused head of ``WORK_SIZE`` entries."""
     if not HAS_REST_COEFFICIENTS:
         return FT_WORK_ROWS
     return FT_WORK_ROWS + -(-(WORK_SIZE + 3 * columns) // columns)
