@@ -2,8 +2,9 @@
 pressure"): uniform layers, the dam break down an incline, the run-out coming to rest, a cap at
 rest, and the similarity solution with front tracking. Prints markdown tables.
 
-Usage: ``python scripts/earth_pressure_check.py [uniform|dam-break|run-out|cap|similarity ...]``
-(all by default; about four minutes here, most of it compiling kernels on an empty cache).
+Usage: ``python scripts/earth_pressure_check.py [CHECK ...]``, each CHECK a key of ``CHECKS``
+(uniform, dam-break, run-out, run-out-sweep, run-out-film, cap, similarity, passive-limit; all
+by default).
 """
 
 from __future__ import annotations
@@ -130,6 +131,50 @@ def run_out() -> None:
         print(f"| {phi} | {moving} | {deepest:.1e} |")
 
 
+def run_out_sweep() -> None:
+    """sh-runout-shock at other resolutions and friction angles (delta = 30): the first output
+    time at which every momentum is 0 (of t = 50, 100, 200, 400), and whether the state then
+    stays bit for bit to t = 400."""
+    times = [0.0, 20.0, 50.0, 100.0, 200.0, 400.0]
+    print("| phi | N | at rest from t = | then bit for bit | mass |")
+    print("|---|---|---|---|---|")
+    for phi in (31.0, 32.0, 33.0, 35.0, 37.0, 40.0, 45.0):
+        for n_cells in (250, 400, 500, 700):
+            result = conslaw.run(
+                "sh-runout-shock", parameters__phi=phi, n_cells=n_cells, output_times=times,
+                t_end=times[-1],
+            )  # fmt: skip
+            states = result.states[2:]
+            resting = [k for k, s in enumerate(states) if not np.any(s.q[1])]
+            first = next(
+                (k for k in resting if all(j in resting for j in range(k, len(states)))), None
+            )
+            since = "never" if first is None else f"{states[first].t:g}"
+            same = first is not None and all(
+                np.array_equal(s.q, states[first].q) for s in states[first:]
+            )
+            print(f"| {phi} | {n_cells} | {since} | {same} | {result.mass_drift[0]:.1e} |")
+
+
+def run_out_film() -> None:
+    """The runs of ``run_out_sweep`` that do not come to rest: the moving cells at t = 400
+    (position, depth, velocity) and the deposit cell below them."""
+    times = [0.0, 20.0, 50.0, 100.0, 200.0, 400.0]
+    print("| phi | N | moving cells at t = 400: x, h, u | deposit cell below: x, h |")
+    print("|---|---|---|---|")
+    for n_cells in (250, 700):
+        result = conslaw.run(
+            "sh-runout-shock", parameters__phi=45.0, n_cells=n_cells, output_times=times,
+            t_end=times[-1],
+        )  # fmt: skip
+        x = result.grid.centres()
+        h, m = result.final.q
+        moving = np.flatnonzero(m)
+        cells = "; ".join(f"{x[i]:.2f}, {h[i]:.1e}, {m[i] / h[i]:.2f}" for i in moving)
+        below = moving[-1] + 1 if moving.size else 0
+        print(f"| 45.0 | {n_cells} | {cells} | {x[below]:.2f}, {h[below]:.1e} |")
+
+
 def cap() -> None:
     """A cap at rest (sh-at-rest with zeta = 25, delta = 30, walls) for 10^4 steps, with and
     without front tracking, every reconstructor: whether every momentum is 0 and h (and the
@@ -205,7 +250,8 @@ def passive_limit() -> None:
 
 
 CHECKS = {
-    "uniform": uniform, "dam-break": dam_break, "run-out": run_out, "cap": cap,
+    "uniform": uniform, "dam-break": dam_break, "run-out": run_out,
+    "run-out-sweep": run_out_sweep, "run-out-film": run_out_film, "cap": cap,
     "similarity": similarity, "passive-limit": passive_limit,
 }  # fmt: skip
 

@@ -17,3 +17,8 @@ DEPTH_SLOPE_LIMIT = 2.0
 #: clamp, which is not conservative, would change the momentum of a wet flow (a Froude-10 shallow
 #: water Riemann problem lost 5 % of its momentum).
 THIN_TAIL = 1e-3
+
+#: A sum of depths that comes out below 0 by no more than this many units of round-off of its
+#: terms (relative to the sum of their magnitudes) is 0: the cell was emptied exactly, and only
+#: the rounding of the sum says otherwise.
+ROUND_OFF = 8.0 * 2.0**-52

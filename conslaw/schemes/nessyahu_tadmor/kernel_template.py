@@ -63,7 +63,7 @@ operation (no fast-math), so the two agree to round-off.
 import numpy as np  # noqa: I001 (the binding block below is replaced when generated)
 from numba import njit
 
-from conslaw.schemes.nessyahu_tadmor.constants import DEPTH_SLOPE_LIMIT, THIN_TAIL
+from conslaw.schemes.nessyahu_tadmor.constants import DEPTH_SLOPE_LIMIT, ROUND_OFF, THIN_TAIL
 from conslaw.kernelgen.stack import local_matrix, local_vector
 from conslaw.reconstruct.dispatch import builtin_slopes
 
@@ -1021,23 +1021,23 @@ def face_correction(w0, w1, w2, face, rest_left, dt, dx, aux0, aux1, params):
     """``(moved, returned)`` at an interior face with exactly one side at rest (the left one if
     ``rest_left``): the depth the pair moved across it rightwards, and the part of it that is
     taken back. Depth crosses only if the material of the moving side moves towards the face
-    (the sign of its momentum before plus after the pair): what the pair moved from it into
-    the cell at rest, or, where the staggered averaging moved depth the other way (out of the
-    material at rest), the donor-cell flux of the moving side, ``dt/dx`` times that momentum.
-    So nothing leaves material at rest, and a moving cell spreads nothing against its motion
-    into a cell at rest or a dry one."""
+    (the sign of its momentum before plus after the pair): the larger of what the pair moved
+    from it into the other cell (at rest or dry) and its donor-cell flux, ``dt/dx`` times that
+    momentum, the flux at most the moving cell's depth at the start of the pair (its momentum
+    after the pair may belong to depth that the averaging moved in from the material at rest,
+    which goes back). So nothing leaves material at rest, a moving cell spreads nothing against
+    its motion, and a moving film drains in its direction of motion (without the flux into a
+    dry cell, a film at the dry depth on a slope too steep to hold it kept its place and its
+    velocity for ever)."""
     moved = face_transfer(w0, w1, face, dt, dx, aux0, aux1, params)
     moving = col(NG + face) if rest_left else col(NG + face - 1)
     momentum = w0[MOMENTUM, moving] + w2[MOMENTUM, moving]
     towards = momentum < 0.0 if rest_left else momentum > 0.0
     allowed = 0.0
     if towards:
-        # Rightwards is positive. Into a dry cell, what the pair moved in the direction of the
-        # motion; into material at rest, at least the donor-cell flux.
-        resting = col(NG + face - 1) if rest_left else col(NG + face)
-        depth = w0[DEPTH, resting]
-        donor = dt / dx * momentum if depth >= DRY_DEPTH and depth > 0.0 else 0.0
-        allowed = min(moved, donor) if rest_left else max(moved, donor)
+        # Rightwards is positive: at least the donor-cell flux.
+        donor = min(dt / dx * abs(momentum), w0[DEPTH, moving])
+        allowed = min(moved, -donor) if rest_left else max(moved, donor)
     return moved, moved - allowed
 
 
@@ -1104,6 +1104,10 @@ def hold_resting_cells(w0, w1, w2, n0, dt, dx, aux0, aux1, params, work):
                 continue  # no face at rest: the pair's own result
             else:
                 depth = w2[DEPTH, c] + (returned_right - returned_left)
+                if depth < 0.0 and depth >= -ROUND_OFF * (
+                    w2[DEPTH, c] + (abs(returned_right) + abs(returned_left))
+                ):
+                    depth = 0.0  # a moving cell emptied into material at rest, to round-off
             if depth < 0.0:
                 return 0.0, 0
             if apply == 0 or depth == w2[DEPTH, c]:
@@ -1113,6 +1117,12 @@ def hold_resting_cells(w0, w1, w2, n0, dt, dx, aux0, aux1, params, work):
             if rest and state[MOMENTUM] != 0.0:
                 # A cell dry at the start keeps the velocity of what it may still receive.
                 state[MOMENTUM] *= depth / state[DEPTH]
+            elif depth < state[DEPTH]:
+                # A moving cell that gives depth back is no faster than it was at the start or
+                # end of the pair (the depth it gives back carried no momentum of its own).
+                fastest = max(abs(cell_velocity(w0, NG + j)), abs(cell_velocity(w2, NG + j)))
+                if abs(state[MOMENTUM]) > depth * fastest:
+                    state[MOMENTUM] = np.copysign(depth * fastest, state[MOMENTUM])
             state[DEPTH] = depth
             for k in range(NAUX):
                 coefficients[k] = aux0[k, c]
