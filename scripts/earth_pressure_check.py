@@ -3,8 +3,8 @@ pressure"): uniform layers, the dam break down an incline, the run-out coming to
 rest, and the similarity solution with front tracking. Prints markdown tables.
 
 Usage: ``python scripts/earth_pressure_check.py [CHECK ...]``, each CHECK a key of ``CHECKS``
-(uniform, dam-break, run-out, run-out-sweep, run-out-film, cap, similarity, passive-limit; all
-by default).
+(uniform, dam-break, run-out, run-out-sweep, run-out-film, run-out-cfl, cap, similarity,
+passive-limit; all by default).
 """
 
 from __future__ import annotations
@@ -157,8 +157,8 @@ def run_out_sweep() -> None:
 
 
 def run_out_film() -> None:
-    """The runs of ``run_out_sweep`` that do not come to rest: the moving cells at t = 400
-    (position, depth, velocity) and the deposit cell below them."""
+    """The runs of ``run_out_sweep`` that do not come to rest (phi = 45 at 250 and 700 cells):
+    the moving cells at t = 400 (position, depth, velocity) and the deposit cell below them."""
     times = [0.0, 20.0, 50.0, 100.0, 200.0, 400.0]
     print("| phi | N | moving cells at t = 400: x, h, u | deposit cell below: x, h |")
     print("|---|---|---|---|")
@@ -170,9 +170,31 @@ def run_out_film() -> None:
         x = result.grid.centres()
         h, m = result.final.q
         moving = np.flatnonzero(m)
+        if not moving.size:
+            print(f"| 45.0 | {n_cells} | none | - |")
+            continue
         cells = "; ".join(f"{x[i]:.2f}, {h[i]:.1e}, {m[i] / h[i]:.2f}" for i in moving)
-        below = moving[-1] + 1 if moving.size else 0
+        below = moving[-1] + 1
         print(f"| 45.0 | {n_cells} | {cells} | {x[below]:.2f}, {h[below]:.1e} |")
+
+
+def run_out_cfl() -> None:
+    """The deposit of the run-out at t = 60 against the Courant number (a treatment of the
+    passive pressure must not make it depend on the time step): its extent (depth above 1e-3),
+    its largest depth, and how many cells still move."""
+    print("| scene | phi | CFL | deposit from | to | largest depth | moving cells |")
+    print("|---|---|---|---|---|---|---|")
+    for scene, phi in (("sh-runout-phi35", 35.0), ("sh-runout-shock", 40.0)):
+        for cfl in (0.45, 0.3, 0.15):
+            result = conslaw.run(
+                scene, cfl=cfl, parameters__phi=phi, t_end=60.0, output_times=[0.0, 60.0]
+            )
+            h, m = result.final.q
+            x = result.grid.centres()[h > 1e-3]
+            print(
+                f"| {scene} | {phi} | {cfl} | {x.min():.2f} | {x.max():.2f} | {h.max():.4f} "
+                f"| {np.count_nonzero(m)} |"
+            )
 
 
 def cap() -> None:
@@ -251,7 +273,8 @@ def passive_limit() -> None:
 
 CHECKS = {
     "uniform": uniform, "dam-break": dam_break, "run-out": run_out,
-    "run-out-sweep": run_out_sweep, "run-out-film": run_out_film, "cap": cap,
+    "run-out-sweep": run_out_sweep, "run-out-film": run_out_film, "run-out-cfl": run_out_cfl,
+    "cap": cap,
     "similarity": similarity, "passive-limit": passive_limit,
 }  # fmt: skip
 
