@@ -1052,12 +1052,17 @@ def hold_resting_cells(w0, w1, w2, n0, dt, dx, aux0, aux1, params, work):
 
     A cell at rest gets its old depth less what crosses its faces (nothing where both sides
     are at rest: such a cell keeps its state bit for bit); a moving cell gets the pair's result
-    with what it received from a cell at rest taken back. Conservative: what one cell of a face
-    gets back, the other gives. Nothing changes if a depth would become negative (checked in
-    a first pass; ``work``, free after the pair, keeps the face transfers for the second). A
-    changed cell gets the model's correction (a cell left below the dry depth holds no
-    momentum). Returns the largest wave speed of the changed wet cells (0 if none) and how many
-    changed cells stopped moving.
+    with what it received from a cell at rest taken back, and what it gives to one by its
+    donor-cell flux beyond what the pair moved. Conservative to round-off: what one cell of a
+    face gets back, the other gives (a moving cell emptied to within ``ROUND_OFF`` of its terms
+    is set to 0). A moving cell that gives depth back keeps its momentum, but is made no faster
+    than it was at the start or end of the pair. Nothing changes anywhere if a depth would
+    become negative beyond round-off (checked in a first pass; ``work``, free after the pair,
+    keeps the face transfers for the second): rarer since the donor-cell flux is at most the
+    moving cell's start depth, but still possible where a moving cell also loses depth across
+    its other face. A changed cell gets the model's correction (a cell left below the dry depth
+    holds no momentum). Returns the largest wave speed of the changed wet cells (0 if none) and
+    how many changed cells stopped moving.
     """
     state = local_vector(NV)
     coefficients = local_vector(NAUX)
