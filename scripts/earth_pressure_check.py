@@ -13,6 +13,7 @@ import math
 import sys
 import tempfile
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -103,6 +104,13 @@ def dam_break() -> None:
         )  # fmt: skip
 
 
+def run_out_to(phi: float, times: list[float], **overrides: Any) -> conslaw.RunResult:
+    """sh-runout-shock with ``phi`` (delta = 30) to the last of ``times``, output at each."""
+    return conslaw.run(
+        "sh-runout-shock", parameters__phi=phi, output_times=times, t_end=times[-1], **overrides
+    )
+
+
 def run_out() -> None:
     """sh-runout-shock with phi = 32, 35, 40: when every momentum is 0, whether the state then
     stays bit for bit, and the mass drift; then the same with output times to t = 3200 (where
@@ -111,9 +119,7 @@ def run_out() -> None:
     print("| phi | moving cells at t = 20, 50, 100, 200 | t=200 equals t=100 bit for bit | mass |")
     print("|---|---|---|---|")
     for phi in (32.0, 35.0, 40.0):
-        result = conslaw.run(
-            "sh-runout-shock", parameters__phi=phi, output_times=times, t_end=times[-1]
-        )
+        result = run_out_to(phi, times)
         moving = [int(np.count_nonzero(s.q[1])) for s in result.states[5:]]
         same = np.array_equal(result.states[-1].q, result.states[-2].q)
         print(f"| {phi} | {moving} | {same} | {result.mass_drift[0]:.1e} |")
@@ -122,9 +128,7 @@ def run_out() -> None:
     print("| phi | moving cells at t = 50, 100, ..., 3200 | deepest moving cell at t = 3200 |")
     print("|---|---|---|")
     for phi in (32.0, 35.0, 40.0):
-        result = conslaw.run(
-            "sh-runout-shock", parameters__phi=phi, output_times=long_times, t_end=3200.0
-        )
+        result = run_out_to(phi, long_times)
         moving = [int(np.count_nonzero(s.q[1])) for s in result.states[1:]]
         final = result.states[-1].q
         deepest = float(final[0][final[1] != 0.0].max(initial=0.0))
@@ -140,20 +144,14 @@ def run_out_sweep() -> None:
     print("|---|---|---|---|---|")
     for phi in (31.0, 32.0, 33.0, 35.0, 37.0, 40.0, 45.0):
         for n_cells in (250, 400, 500, 700):
-            result = conslaw.run(
-                "sh-runout-shock", parameters__phi=phi, n_cells=n_cells, output_times=times,
-                t_end=times[-1],
-            )  # fmt: skip
-            states = result.states[2:]
-            resting = [k for k, s in enumerate(states) if not np.any(s.q[1])]
-            first = next(
-                (k for k in resting if all(j in resting for j in range(k, len(states)))), None
-            )
-            since = "never" if first is None else f"{states[first].t:g}"
-            same = first is not None and all(
-                np.array_equal(s.q, states[first].q) for s in states[first:]
-            )
-            print(f"| {phi} | {n_cells} | {since} | {same} | {result.mass_drift[0]:.1e} |")
+            result = run_out_to(phi, times, n_cells=n_cells)
+            states, mass = result.states[2:], result.mass_drift[0]
+            # The first output from which no momentum is left (len(states): none such).
+            first = max((k + 1 for k, s in enumerate(states) if np.any(s.q[1])), default=0)
+            at_rest = first < len(states)
+            since = f"{states[first].t:g}" if at_rest else "never"
+            same = at_rest and all(np.array_equal(s.q, states[first].q) for s in states[first:])
+            print(f"| {phi} | {n_cells} | {since} | {same} | {mass:.1e} |")
 
 
 def run_out_film() -> None:
@@ -163,10 +161,7 @@ def run_out_film() -> None:
     print("| phi | N | moving cells at t = 400: x, h, u | deposit cell below: x, h |")
     print("|---|---|---|---|")
     for n_cells in (250, 700):
-        result = conslaw.run(
-            "sh-runout-shock", parameters__phi=45.0, n_cells=n_cells, output_times=times,
-            t_end=times[-1],
-        )  # fmt: skip
+        result = run_out_to(45.0, times, n_cells=n_cells)
         x = result.grid.centres()
         h, m = result.final.q
         moving = np.flatnonzero(m)
