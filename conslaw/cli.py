@@ -184,6 +184,15 @@ def _run_scene(scene: Scene, out: Path, writer: RunWriter) -> int:
             f"t={result.final.t:g} ({result.steps} steps); every output is complete in {out}\n"
         )
         return 130
+    _print_summary(scene, result)
+    for path in files:
+        print(f"  wrote {path}")
+    return 0
+
+
+def _print_summary(scene: Scene, result: RunResult) -> None:
+    """What a finished run prints before the files it wrote: the solve, the errors against the
+    exact solution, the change of the conserved totals, whether the material is at rest."""
     print(
         f"{scene.name}: {scene.model}, {scene.scheme}, {scene.reconstructor_label}, "
         f"N={scene.n_cells}, t={result.final.t:g}, {result.steps} steps, "
@@ -222,9 +231,6 @@ def _run_scene(scene: Scene, out: Path, writer: RunWriter) -> int:
     note = result.outflow_fed_note()
     if note is not None:
         print(f"  note: {note}")
-    for path in files:
-        print(f"  wrote {path}")
-    return 0
 
 
 def _rest_note(result: Any) -> str | None:

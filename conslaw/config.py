@@ -14,12 +14,15 @@ import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from conslaw import registry
 from conslaw.errors import ConfigError, finite_number, unknown_name_message
 from conslaw.grid import MAX_CELLS
 from conslaw.initial import InitialCondition
+
+if TYPE_CHECKING:
+    from conslaw.model import Model
 
 REQUIRED = object()
 
@@ -129,6 +132,21 @@ class Scene:
     max_steps: int = DEFAULTS["max_steps"]
     #: The scene file it was read from ("" for a scene built in Python).
     source_file: str = ""
+    #: ``(parameters, model)``: the model that validation built from exactly this
+    #: ``parameters`` object, which the run then uses (:meth:`model_instance`).
+    validated_model: tuple[Mapping[str, Any], Model] | None = field(
+        default=None, compare=False, repr=False
+    )
+
+    def model_instance(self) -> Model:
+        """The scene's model: the one validation built, if the scene still has the parameters
+        it was built from (a scene made with ``dataclasses.replace(scene, parameters=...)`` has
+        others and gets a new one), else a new one (which validates its parameters)."""
+        if self.validated_model is not None:
+            parameters, model = self.validated_model
+            if parameters is self.parameters and model.name == self.model:
+                return model
+        return registry.models.get(self.model)(**self.parameters)
 
     @property
     def scheme_label(self) -> str:
@@ -505,10 +523,14 @@ def _output(table: Mapping[str, Any]) -> tuple[list[str], bool]:
     return list(dict.fromkeys(formats)), plot
 
 
-def validate(name: str, raw: Mapping[str, Any], folder: Path | None = None) -> Scene:
+def validate(
+    name: str, raw: Mapping[str, Any], folder: Path | None = None, model_object: Model | None = None
+) -> Scene:
     """Validate a raw scene mapping (after overrides) into a :class:`Scene`.
 
     ``folder`` is where the scene file lives (relative ``*_file`` parameters are resolved there).
+    ``model_object``: the model of the mapping's model and parameters if the caller has one
+    (it is not built a second time).
     """
     table = _filled(raw)
     model = _name(table, "model", registry.models)
@@ -527,7 +549,9 @@ def validate(name: str, raw: Mapping[str, Any], folder: Path | None = None) -> S
         raise ConfigError(f"scene key 'exact': expected true or false, got {table['exact']!r}")
     max_steps = _max_steps(table)
     left, right = _boundaries(table)
-    model_object = registry.models.get(model)(**parameters)  # validates its own parameters
+    parameters = dict(parameters)
+    if model_object is None or model_object.name != model:
+        model_object = registry.models.get(model)(**parameters)  # validates its own parameters
     if front_tracking and (model_object.depth_index is None or model_object.n_vars != 2):
         raise ConfigError(
             f"scene key 'front_tracking': needs a model with a depth variable, q = (h, hu); "
@@ -536,11 +560,12 @@ def validate(name: str, raw: Mapping[str, Any], folder: Path | None = None) -> S
     initial = InitialCondition.from_table(table["initial"], registry.models.get(model))
     formats, plot = _output(table)
     return Scene(
-        name=name, description=table["description"], model=model, parameters=dict(parameters),
+        name=name, description=table["description"], model=model, parameters=parameters,
         scheme=scheme, reconstructor=reconstructor, cfl=cfl, n_cells=n_cells, x_min=x_min,
         x_max=x_max, t_end=t_end, output_times=tuple(times), exact=table["exact"], left=left,
         right=right, initial=initial, output_formats=tuple(formats), plot=plot,
         front_tracking=front_tracking, scheme_options=scheme_options, max_steps=max_steps,
+        validated_model=(parameters, model_object),
     )  # fmt: skip
 
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import signal
 import time
 from collections.abc import Callable, Mapping
@@ -35,8 +36,7 @@ def build(scene: Scene) -> tuple[Model, Grid, Scheme, State, ExactSolution | Non
 def _build(
     scene: Scene,
 ) -> tuple[Model, Grid, Scheme, State, ExactSolution | None, str | None]:
-    model_class = registry.models.get(scene.model)
-    model = model_class(**scene.parameters)
+    model = scene.model_instance()
     model.check_domain(scene.x_min, scene.x_max)
     check_memory(scene, model)
     grid = Grid(float(scene.x_min), float(scene.x_max), int(scene.n_cells))
@@ -65,18 +65,21 @@ def _build(
     return model, grid, scheme, initial, exact, note
 
 
-def check_scene(scene: Scene) -> None:
+def check_scene(scene: Scene) -> Scene:
     """The rules of a scene file for a Scene object too (one made or changed in Python, e.g. by
     ``dataclasses.replace``, skips :func:`conslaw.config.validate`): a ConfigError naming the key,
     as for the file. The output times must also be the increasing, distinct times validation
-    makes of them (the outputs are labelled by them)."""
-    validate(scene.name, _plain(scene.to_table()))
+    makes of them (the outputs are labelled by them). Returns the scene with its model, built
+    once (:meth:`~conslaw.config.Scene.model_instance`)."""
+    model = scene.model_instance()
+    validate(scene.name, _plain(scene.to_table()), model_object=model)
     times = [float(t) for t in scene.output_times]
     if times != sorted(set(times)) or not times or times[-1] != scene.t_end:
         raise ConfigError(
             f"scene key 'output_times': {times} must increase, without repeats, and end at "
             f"t_end={scene.t_end}"
         )
+    return dataclasses.replace(scene, validated_model=(scene.parameters, model))
 
 
 def _plain(value: Any) -> Any:
@@ -149,7 +152,7 @@ def simulate(
     becomes :class:`~conslaw.errors.RunInterrupted` saying where the run stopped.
     ``notice(message)`` is told of a wait before it starts (a first run compiling its kernels).
     """
-    check_scene(scene)
+    scene = check_scene(scene)
     model, grid, scheme, initial, exact_solution, exact_note = _build(scene)
     scheme.check_admissible(initial, step=0)
     result = RunResult(

@@ -3,8 +3,8 @@ pressure"): uniform layers, the dam break down an incline, the run-out coming to
 rest, and the similarity solution with front tracking. Prints markdown tables.
 
 Usage: ``python scripts/earth_pressure_check.py [CHECK ...]``, each CHECK a key of ``CHECKS``
-(uniform, dam-break, run-out, run-out-sweep, run-out-film, run-out-cfl, cap, similarity,
-passive-limit; all by default).
+(uniform, dam-break, dam-break-first-order, run-out, run-out-sweep, run-out-film, run-out-cfl,
+cap, similarity, passive-limit; all by default).
 """
 
 from __future__ import annotations
@@ -102,6 +102,40 @@ def dam_break() -> None:
             + " | " + ", ".join(f"{o:.2f}" for o in orders)
             + f" | {min(ratios):.2f}-{max(ratios):.2f} | {highest:.6f} |"
         )  # fmt: skip
+
+
+def dam_break_first_order() -> None:
+    """The first-order scheme (``none``) on sh-dam-break-incline from 200 to 6400 cells, phi = 30
+    and phi = delta = 25: L1(h) at t = 2 (the output times of :func:`dam_break`), the observed
+    order, L1 / dx and L1 / (dx ln(1/dx)) (the rate of a monotone scheme at the corners of a
+    rarefaction), and the share of L1 behind the fan's rear corner (x < -0.8), in the fan, and
+    in the last 0.5 before the front."""
+    cells = (200, 400, 800, 1600, 3200, 6400)
+    times = [0.1 * k for k in range(1, 21)]
+    print("| phi | N | L1 | order | L1 / dx | L1 / (dx ln(1/dx)) | rear, fan, front share |")
+    print("|---|---|---|---|---|---|---|")
+    for phi in (30.0, 25.0):
+        errors = []
+        for n in cells:
+            result = conslaw.run(
+                "sh-dam-break-incline", n_cells=n, reconstructor="none", output_times=times,
+                parameters__phi=phi,
+            )  # fmt: skip
+            error = result.headline_error()
+            assert error is not None
+            errors.append(error)
+            x, exact = result.states[-1].x, result.exact[-1]
+            assert exact is not None
+            local = np.abs(result.states[-1].q[0] - exact[0])
+            front = float(x[np.nonzero(exact[0] > 0.0)[0].max()])
+            shares = [x < -0.8, (x >= -0.8) & (x < front - 0.5), x >= front - 0.5]
+            share = ", ".join(f"{local[mask].sum() / local.sum():.2f}" for mask in shares)
+            dx = result.grid.dx
+            order = "" if n == cells[0] else f"{observed_orders(cells[:2], errors[-2:])[0]:.2f}"
+            print(
+                f"| {phi} | {n} | {error:.3e} | {order} | {error / dx:.3f} | "
+                f"{error / (dx * math.log(1.0 / dx)):.3f} | {share} |"
+            )
 
 
 def run_out_to(phi: float, times: list[float], **overrides: Any) -> conslaw.RunResult:
@@ -267,7 +301,8 @@ def passive_limit() -> None:
 
 
 CHECKS = {
-    "uniform": uniform, "dam-break": dam_break, "run-out": run_out,
+    "uniform": uniform, "dam-break": dam_break, "dam-break-first-order": dam_break_first_order,
+    "run-out": run_out,
     "run-out-sweep": run_out_sweep, "run-out-film": run_out_film, "run-out-cfl": run_out_cfl,
     "cap": cap,
     "similarity": similarity, "passive-limit": passive_limit,

@@ -6,6 +6,7 @@ from __future__ import annotations
 import importlib
 import json
 import os
+import shutil
 import subprocess
 import sys
 import textwrap
@@ -81,21 +82,50 @@ def generated(name: str, folder: Path) -> object:
 
 def test_only_the_bound_source_recompiles(package: tuple[str, Path]) -> None:
     """Appending to a module the compiled code does not reach keeps the module (and numba's
-    cache of it); appending to the bound function's file makes a new one and removes the old."""
+    cache of it); appending to the bound function's file makes a new one. The version used last
+    before it stays (two versions in use at once do not remove each other's kernels); the one
+    before that is removed with numba's cache files of it."""
     name, folder = package
     first = generated(name, folder)
     np.testing.assert_array_equal(first.apply(np.array([1.0, 2.0])), [6.0, 12.0])
     with (folder / "other.py").open("a") as handle:
         handle.write("# a comment\n")
     assert generated(name, folder).__name__ == first.__name__
-    with (folder / "physics.py").open("a") as handle:
-        handle.write("# a comment\n")
-    second = generated(name, folder)
-    assert second.__name__ != first.__name__
     kernels = Path(os.environ["CONSLAW_CACHE_DIR"])
+    modules = []
+    for _ in range(2):
+        with (folder / "physics.py").open("a") as handle:
+            handle.write("# a comment\n")
+        modules.append(generated(name, folder))
+        np.testing.assert_array_equal(modules[-1].apply(np.array([1.0])), [6.0])
+    second, third = modules
+    assert len({first.__name__, second.__name__, third.__name__}) == 3
+    assert (kernels / f"{second.__name__}.py").exists()
+    assert list((kernels / "__pycache__").glob(f"{second.__name__}.*"))
     assert not (kernels / f"{first.__name__}.py").exists()
     assert not list((kernels / "__pycache__").glob(f"{first.__name__}.*"))
-    np.testing.assert_array_equal(second.apply(np.array([1.0])), [6.0])
+
+
+def test_two_installations_of_the_same_code_share_their_kernels(
+    package: tuple[str, Path], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The kernel key names a file by its path inside its package, not by where the package is
+    installed: the same package copied elsewhere (a source checkout beside site-packages) and
+    imported from there binds to the same generated module, compiled once."""
+    name, folder = package
+    first = generated(name, folder)
+    elsewhere = tmp_path / "elsewhere"
+    shutil.copytree(folder, elsewhere / name)
+    for module in [m for m in sys.modules if m == name or m.startswith(f"{name}.")]:
+        del sys.modules[module]
+    monkeypatch.syspath_prepend(str(elsewhere))
+    importlib.invalidate_caches()
+    physics = importlib.import_module(f"{name}.physics")
+    assert Path(physics.__file__).is_relative_to(elsewhere)
+    again = generate(elsewhere / name / "template.py", {"_twice": physics.twice}, {"SCALE": 3.0})
+    assert again.__name__ == first.__name__
+    assert codegen.package_path(elsewhere / name / "template.py") == f"{name}/template.py"
+    assert codegen.package_path(tmp_path / "loose.py") == "loose.py"
 
 
 def test_a_constant_the_bound_code_reads_is_part_of_the_key(package: tuple[str, Path]) -> None:
@@ -283,6 +313,48 @@ physics = importlib.import_module("{name}.physics")
 module = generate({template!r}, {{"_twice": physics.twice}}, {{"SCALE": 3.0}})
 print(module.apply(np.array([1.0, 2.0])).tolist(), sum(module.apply.stats.cache_hits.values()))
 """
+
+
+LOCKED_CHILD = """
+import importlib, sys
+import numpy as np
+sys.path.insert(0, {source!r})
+from conslaw.kernelgen import compile_lock, generate
+physics = importlib.import_module("{name}.physics")
+module = generate({template!r}, {{"_twice": physics.twice}}, {{"SCALE": 3.0}})
+print("ready", flush=True)
+with compile_lock(module):
+    module.apply(np.array([1.0]))
+print(sum(module.apply.stats.cache_hits.values()))
+"""
+
+
+def test_processes_that_need_the_same_kernels_compile_them_once(
+    package: tuple[str, Path],
+) -> None:
+    """Two processes wait on the compile lock (held here) for the same cold module; released,
+    one compiles it and the other loads it from the cache (one cache hit between them; without
+    the lock both would compile at once)."""
+    name, folder = package
+    script = LOCKED_CHILD.format(
+        source=str(folder.parent), name=name, template=str(folder / "template.py")
+    )
+    module = generated(name, folder)
+    with codegen.compile_lock(module):  # type: ignore[arg-type]
+        children = [
+            subprocess.Popen(
+                [sys.executable, "-c", script],
+                stdout=subprocess.PIPE,
+                stderr=subprocess.PIPE,
+                text=True,
+            )
+            for _ in range(2)
+        ]
+        for child in children:
+            assert child.stdout is not None and child.stdout.readline().strip() == "ready"
+    outputs = [child.communicate() for child in children]
+    assert all(child.returncode == 0 for child in children), outputs
+    assert sorted(int(out.strip()) for out, _ in outputs) == [0, 1], outputs
 
 
 def test_a_damaged_kernel_cache_is_rebuilt(package: tuple[str, Path]) -> None:

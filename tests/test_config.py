@@ -152,3 +152,27 @@ def test_an_output_interval_merges_with_the_listed_times() -> None:
         "burgers-sine", {"output_interval": 0.1, "t_end": 0.3, "output_times": [0.15]}
     )
     assert list(scene.output_times) == [0.0, 0.1, 0.15, 0.2, 0.3]
+
+
+def test_a_run_builds_its_model_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Validation builds the model (it checks its own parameters) and the run uses that one;
+    a scene given other parameters with ``dataclasses.replace`` gets a model of its own."""
+    from conslaw import registry
+    from conslaw.simulation import simulate
+
+    model_class = registry.models.get("shallow-water")
+    built: list[dict[str, float]] = []
+    original = model_class.__init__
+
+    def counting(self: object, **parameters: float) -> None:
+        built.append(parameters)
+        original(self, **parameters)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(model_class, "__init__", counting)
+    scene = load_scene("dam-break-wet", {"n_cells": 20, "t_end": 0.05})
+    simulate(scene)
+    simulate(dataclasses.replace(scene, n_cells=30))
+    assert built == [{"g": 1.0}]
+    other = dataclasses.replace(scene, parameters={"g": 2.0})
+    assert other.model_instance().params.g == 2.0  # type: ignore[attr-defined]
+    assert built == [{"g": 1.0}, {"g": 2.0}]

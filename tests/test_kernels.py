@@ -247,8 +247,8 @@ def test_step_returns_the_counts_and_speed_of_its_new_state(
         dst = np.zeros_like(nt._w1)
         src[:, GHOSTS : GHOSTS + 600] = state.q
         largest, bad, _, moving = kernels.nt_step(
-            src, dst, 600, nt.n_staggered, -1, False, dt, nt.grid.dx, aux[0], aux[1], aux[2],
-            aux_dst, nt.params, nt.bc_left, nt.bc_right,
+            src, dst, kernels.Family(600, *aux), kernels.Family(nt.n_staggered, *nt._aux[0.5]),
+            -1, dt, nt.grid.dx, nt.params, kernels.Boundary(nt.bc_left, nt.bc_right),
             np.zeros(kernels.work_size(nt.n_staggered)),
         )  # fmt: skip
         # (largest, -1), or (-1, i) at the first inadmissible new cell (a negative depth: the

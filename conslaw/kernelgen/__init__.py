@@ -7,10 +7,18 @@ are module-level compiled functions, constants are compile-time values (docs/des
 
 from conslaw.kernelgen.generation import (
     cache_dir,
+    compile_lock,
     compiled_before,
     dependency_sources,
     generate,
     import_path,
 )
 
-__all__ = ["cache_dir", "compiled_before", "dependency_sources", "generate", "import_path"]
+__all__ = [
+    "cache_dir",
+    "compile_lock",
+    "compiled_before",
+    "dependency_sources",
+    "generate",
+    "import_path",
+]

@@ -198,10 +198,24 @@ def dependency_sources(roots: Mapping[str, Any]) -> list[str]:
     texts = []
     for file in sorted(files):
         try:
-            texts.append(f"{file}\0{Path(file).read_text()}")
+            texts.append(f"{package_path(Path(file))}\0{Path(file).read_text()}")
         except OSError:
             texts.append(file)
     return texts + sorted(constants)
+
+
+def package_path(file: Path) -> str:
+    """``file``'s path from the folder that holds its top-level package
+    (``conslaw/schemes/nessyahu_tadmor/kernel_template.py``; a file outside a package: its
+    name). Kernel keys use it instead of the absolute path, so that two installations of the
+    same code (a source checkout and site-packages, or two virtual environments) share their
+    compiled kernels."""
+    parts = [file.name]
+    folder = file.parent
+    while (folder / "__init__.py").exists() and folder.parent != folder:
+        parts.append(folder.name)
+        folder = folder.parent
+    return "/".join(reversed(parts))
 
 
 def _template_imports(text: str) -> dict[str, Any]:
@@ -235,15 +249,37 @@ def _binding_block(block: str, statements: list[str]) -> str:
 
 
 def _prune(folder: Path, family: str, keep: str) -> None:
-    """Remove the generated modules of ``family`` other than ``keep``, with numba's cache files
-    of them: the same template and bindings generated from an earlier version of the code."""
-    for path in folder.glob(f"{family}_*.py"):
-        if path.stem != keep:
-            path.unlink(missing_ok=True)
+    """Remove the generated modules of ``family`` other than ``keep`` and the one used last
+    before it, with numba's cache files of them: the same template and bindings generated from
+    earlier versions of the code. The one used last stays so that two versions in use at once
+    (two virtual environments, or checkouts compared with each other) do not remove each other's
+    kernels at every switch."""
+    others = sorted(
+        (path for path in folder.glob(f"{family}_*.py") if path.stem != keep),
+        key=_last_use,
+        reverse=True,
+    )
+    kept = {keep, *(path.stem for path in others[:1])}
+    for suffix in ("py", "lock"):
+        for path in folder.glob(f"{family}_*.{suffix}"):
+            if path.stem not in kept:
+                path.unlink(missing_ok=True)
     # numba's cache files of the family's other modules (also of modules already gone)
     for cached in (folder / "__pycache__").glob(f"{family}_*"):
-        if not cached.name.startswith(f"{keep}."):
+        if cached.name.split(".", 1)[0] not in kept:
             cached.unlink(missing_ok=True)
+
+
+def _last_use(module_file: Path) -> float:
+    """When a generated module was last imported: the time stamp of its lock file (touched at
+    every import; the module itself is not touched, numba checks its time stamp), else of the
+    module."""
+    for path in (module_file.with_suffix(".lock"), module_file):
+        try:
+            return path.stat().st_mtime
+        except OSError:
+            continue
+    return 0.0
 
 
 def generate(
@@ -302,7 +338,7 @@ def generate(
     # Without the JIT (NUMBA_DISABLE_JIT) nothing is compiled and the dependencies are unknown: a
     # family of its own, so that it never prunes the compiled modules.
     jit = "nojit" if getattr(numba.config, "DISABLE_JIT", False) else "jit"
-    identity = hashlib.sha256("\0".join([str(path), jit, *statements, *imported]).encode())
+    identity = hashlib.sha256("\0".join([package_path(path), jit, *statements, *imported]).encode())
     digest = hashlib.sha256("\0".join([body, *dependency_sources(roots)]).encode())
     family = f"conslaw_kernel_{path.parent.name}_{path.stem}_{identity.hexdigest()[:12]}"
     module_name = f"{family}_{digest.hexdigest()[:16]}"
@@ -317,13 +353,35 @@ def generate(
 @contextlib.contextmanager
 def _folder_lock(folder: Path) -> Iterator[None]:
     """Other processes using the cache folder wait while this one writes, imports and prunes
-    (an advisory lock on ``folder/.lock``; without ``fcntl``, no lock between processes)."""
+    (an advisory lock on ``folder/.lock``)."""
+    with _file_lock(folder / ".lock"):
+        yield
+
+
+@contextlib.contextmanager
+def compile_lock(module: ModuleType) -> Iterator[None]:
+    """Hold while making the first calls of a generated ``module``, which compile it: another
+    process that needs the same module waits here, and its own first calls then load the
+    compiled code from numba's cache instead of compiling it a second time (parallel test
+    workers, ensemble members, ``conslaw warm``). An advisory lock on ``<module>.lock`` beside
+    the module; nothing waits without the JIT."""
+    if getattr(numba.config, "DISABLE_JIT", False) or not module.__file__:
+        yield
+        return
+    with _file_lock(Path(module.__file__).with_suffix(".lock")):
+        yield
+
+
+@contextlib.contextmanager
+def _file_lock(path: Path) -> Iterator[None]:
+    """An exclusive advisory lock on ``path`` (created if needed) between processes and between
+    threads (each holder opens the file itself); without ``fcntl`` (not POSIX), no lock."""
     try:
         import fcntl
     except ImportError:  # not on POSIX
         yield
         return
-    with open(folder / ".lock", "a") as handle:
+    with open(path, "a") as handle:
         fcntl.flock(handle, fcntl.LOCK_EX)
         try:
             yield
@@ -352,6 +410,8 @@ def _write_and_import(folder: Path, family: str, module_name: str, body: str) ->
                 "free some space or set CONSLAW_CACHE_DIR to another folder"
             ) from None
         _prune(folder, family, keep=module_name)
+    with contextlib.suppress(OSError):  # the last use, for _prune (not needed to run)
+        target.with_suffix(".lock").touch()
     spec = importlib.util.spec_from_file_location(module_name, target)
     assert spec is not None and spec.loader is not None
     module = importlib.util.module_from_spec(spec)

@@ -23,7 +23,6 @@ from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
-from conslaw import registry
 from conslaw.analysis import observed_orders
 from conslaw.config import Scene, load_scene, scheme_variants
 from conslaw.errors import ConfigError, shown
@@ -131,6 +130,43 @@ def measure_import_seconds() -> float | None:
         return None
 
 
+def _study_variants(
+    scene: str | Path,
+    coarsest: int,
+    reconstructors: Sequence[str] | None,
+    schemes: Sequence[str] | None,
+    overrides: Mapping[str, Any] | None,
+) -> tuple[Scene, list[Scene]]:
+    """The scene of a study and its variants (one per scheme and reconstructor, a scheme without
+    a reconstructor once), each validated and checked to have an exact solution on the coarsest
+    grid, before any work is done."""
+    base = load_scene(scene, overrides)
+    base = replace(base, output_times=(base.t_end,), exact=True)
+    reconstructors = list(reconstructors or [base.reconstructor])
+    schemes = list(schemes or [base.scheme])
+    # Validate every combination before any work is done.
+    variants: list[Scene] = []
+    for scheme in schemes:
+        for reconstructor in reconstructors:
+            variant = scheme_variants(
+                scene, [scheme], {**(overrides or {}), "reconstructor": reconstructor}
+            )[0]
+            labels = (variant.scheme_label, variant.reconstructor_label)
+            # A scheme without a reconstructor is studied once, not once per reconstructor.
+            if labels not in {(v.scheme_label, v.reconstructor_label) for v in variants}:
+                variants.append(variant)
+    for variant in variants:
+        model = variant.model_instance()
+        grid = Grid(variant.x_min, variant.x_max, coarsest)
+        exact, why = exact_solution_for(variant, model, grid)
+        if exact is None:
+            raise ConfigError(
+                f"scene '{base.name}' has no exact solution to measure against ({why}); "
+                "convergence needs one"
+            )
+    return base, variants
+
+
 def convergence_study(
     scene: str | Path,
     cells: Sequence[int],
@@ -148,30 +184,7 @@ def convergence_study(
         raise ConfigError(
             f"--repeats: expected an integer >= 1 and <= {MAX_REPEATS}, got {shown(repeats)}"
         )
-    base = load_scene(scene, overrides)
-    base = replace(base, output_times=(base.t_end,), exact=True)
-    reconstructors = list(reconstructors or [base.reconstructor])
-    schemes = list(schemes or [base.scheme])
-    # Validate every combination before any work is done.
-    variants: list[Scene] = []
-    for scheme in schemes:
-        for reconstructor in reconstructors:
-            variant = scheme_variants(
-                scene, [scheme], {**(overrides or {}), "reconstructor": reconstructor}
-            )[0]
-            labels = (variant.scheme_label, variant.reconstructor_label)
-            # A scheme without a reconstructor is studied once, not once per reconstructor.
-            if labels not in {(v.scheme_label, v.reconstructor_label) for v in variants}:
-                variants.append(variant)
-    for variant in variants:
-        model = registry.models.get(variant.model)(**variant.parameters)
-        grid = Grid(variant.x_min, variant.x_max, cells[0])
-        exact, why = exact_solution_for(variant, model, grid)
-        if exact is None:
-            raise ConfigError(
-                f"scene '{base.name}' has no exact solution to measure against ({why}); "
-                "convergence needs one"
-            )
+    base, variants = _study_variants(scene, cells[0], reconstructors, schemes, overrides)
     study = ConvergenceStudy(str(base.name), base.t_end, repeats)
     for variant in variants:
         key = f"{variant.scheme_label}/{variant.reconstructor_label}"

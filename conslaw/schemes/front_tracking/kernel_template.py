@@ -23,6 +23,8 @@ row 1 after the first step of a pair, row 2 after the second. A profile row per 
 1 front) holds what the step needs at its start (see ``P_*``).
 """
 
+from typing import NamedTuple
+
 import numpy as np
 from numba import njit, objmode
 
@@ -124,6 +126,37 @@ P_TRIANGLE = 8
 P_SIGN = 9
 P_SIZE = 10
 WET_FLOOR = max(DRY_DEPTH, 2.2250738585072014e-308)  # np.finfo(float).tiny
+
+
+class FrontFamily(NamedTuple):
+    """A cell family as a front-tracking step reads or writes it: the fields of the NT kernels'
+    ``Family`` (number of real cells, coefficients at the centres and quarter points), then the
+    centres of the real cells and of the padded ones."""
+
+    cells: int
+    aux: np.ndarray
+    aux_left: np.ndarray
+    aux_right: np.ndarray
+    x: np.ndarray
+    x_padded: np.ndarray
+
+
+class Tracking(NamedTuple):
+    """The margins and what tracking them needs: the margin rows (the state's, after the first
+    step of a pair, after the second), the profile rows, the cell of each margin, the history
+    of the margins (one row per step), the padded copy of the source continued across the
+    margins, the band the margins must stay in, and the model's coefficients if they are the
+    same everywhere (``uniform``)."""
+
+    margins: np.ndarray
+    profiles: np.ndarray
+    margin_of: np.ndarray
+    history: np.ndarray
+    data: np.ndarray
+    x_low: float
+    x_high: float
+    uniform: bool
+    uniform_values: np.ndarray
 
 
 def ft_work_rows(columns):
@@ -433,23 +466,54 @@ def ft_predict(
 
 
 @njit(cache=True, error_model="numpy")
-def ft_average(
-    src,
-    dst,
-    first,
-    count,
-    dt,
-    dx,
-    aux_centre,
-    aux_left_quarter,
-    aux_right_quarter,
-    aux_dst,
-    parameters,
-    work,
-):
-    """The new cells ``NG .. NG + count - 1`` (eq. 10) with the sources on the mid-step mass
-    (``adjust_source_depths``), the resistance, the correction and the thin-tail velocity
-    bound."""
+def quarter_sources(right, left, source, a, b, params, coefficients, result):
+    """The model's sources at the right quarter point of source cell ``a`` (state ``right``) and
+    the left one of ``b`` (``left``): the sums of their depth and momentum rows."""
+    for k in range(NAUX):
+        coefficients[k] = source.aux_right[k, a]
+    _source_point(right, coefficients, params, result)
+    source_right_m = result[MOMENTUM]
+    source_right_d = result[DEPTH]
+    for k in range(NAUX):
+        coefficients[k] = source.aux_left[k, b]
+    _source_point(left, coefficients, params, result)
+    return source_right_d + result[DEPTH], source_right_m + result[MOMENTUM]
+
+
+@njit(cache=True, error_model="numpy")
+def quarter_resistance(right, left, source, a, b, params, coefficients):
+    """The sum of the model's resistance at the right quarter point of source cell ``a`` (state
+    ``right``) and at the left one of ``b`` (``left``)."""
+    for k in range(NAUX):
+        coefficients[k] = source.aux_right[k, a]
+    impulse = _resistance_point(right, coefficients, params)
+    for k in range(NAUX):
+        coefficients[k] = source.aux_left[k, b]
+    return impulse + _resistance_point(left, coefficients, params)
+
+
+@njit(cache=True, error_model="numpy")
+def ft_bound_tails(src, dst, first, count, dt, aux_centre, params):
+    """The thin-tail velocity bound of the new cells ``NG .. NG + count - 1`` (as the NT
+    kernel's :func:`bound_tail_velocities`, after the loop that counted the tails)."""
+    probe = local_vector(NV)
+    probe_coefficients = local_vector(NAUX)
+    result = local_vector(NV)
+    for j in range(count):
+        new = col(NG + j)
+        bounded, changed = bounded_tail_momentum(
+            src, first + j, dst[DEPTH, new], dst[MOMENTUM, new], dt, aux_centre, params,
+            probe, probe_coefficients, result,
+        )  # fmt: skip
+        if changed:
+            dst[MOMENTUM, new] = bounded
+
+
+@njit(cache=True, error_model="numpy")
+def ft_average(src, dst, first, source, target, dt, dx, parameters, work):
+    """The new cells ``NG .. NG + target.cells - 1`` (eq. 10) from the source cells from
+    ``first`` on, with the sources on the mid-step mass (``adjust_source_depths``), the
+    resistance, the correction and the thin-tail velocity bound."""
     state = local_vector(NV)
     left = local_vector(NV)
     right = local_vector(NV)
@@ -457,15 +521,13 @@ def ft_average(
     flux_left = local_vector(NV)
     flux_right = local_vector(NV)
     coefficients = local_vector(NAUX)
-    probe = local_vector(NV)
-    probe_coefficients = local_vector(NAUX)
     params = local_vector(NPARAMS)
     load_params(parameters, params)
     half_dt = 0.5 * dt
     ratio = dt / dx
     tails = 0
     rest = rest_rows(work)
-    for j in range(count):
+    for j in range(target.cells):
         a = col(first + j)
         b = col(first + j + 1)
         for v in range(NV):
@@ -475,7 +537,7 @@ def ft_average(
             for v in range(NV):
                 left[v] = flux_left[v]
                 right[v] = flux_right[v]
-            interface_fluxes(left, right, aux_centre, a, b, params, flux_left, flux_right)
+            interface_fluxes(left, right, source.aux, a, b, params, flux_left, flux_right)
         for v in range(NV):
             state[v] = (
                 0.5 * (src[v, a] + src[v, b])
@@ -485,25 +547,20 @@ def ft_average(
         start = 0.5 * (src[DEPTH, a] + src[DEPTH, b]) + 0.125 * (
             work[FT_SLOPE + DEPTH, col(j)] - work[FT_SLOPE + DEPTH, col(j + 1)]
         )
-        target = 0.5 * (start + state[DEPTH])
+        target_depth = 0.5 * (start + state[DEPTH])
         current = 0.5 * (
             work[FT_QUARTER_RIGHT + DEPTH, col(j)] + work[FT_QUARTER_LEFT + DEPTH, col(j + 1)]
         )
-        factor = target / current if current > 0.0 else 0.0
+        factor = target_depth / current if current > 0.0 else 0.0
         for v in range(NV):
             right[v] = work[FT_QUARTER_RIGHT + v, col(j)] * factor
             left[v] = work[FT_QUARTER_LEFT + v, col(j + 1)] * factor
         if HAS_SOURCE:
-            for k in range(NAUX):
-                coefficients[k] = aux_right_quarter[k, a]
-            _source_point(right, coefficients, params, result)
-            source_right_m = result[MOMENTUM]
-            source_right_d = result[DEPTH]
-            for k in range(NAUX):
-                coefficients[k] = aux_left_quarter[k, b]
-            _source_point(left, coefficients, params, result)
-            state[DEPTH] += half_dt * (source_right_d + result[DEPTH])
-            state[MOMENTUM] += half_dt * (source_right_m + result[MOMENTUM])
+            depth_sum, momentum_sum = quarter_sources(
+                right, left, source, a, b, params, coefficients, result
+            )
+            state[DEPTH] += half_dt * depth_sum
+            state[MOMENTUM] += half_dt * momentum_sum
         if HAS_REST_COEFFICIENTS:
             # As the NT kernel's average_cells: the momentum with the low end of the rest range
             # at both ends, and the spans of the two centres (hold_static_runs).
@@ -515,18 +572,13 @@ def ft_average(
             rest[rest_slot(rest, REST_SPAN, j)] = work[FT_FLUX_SPAN, col(j)]
             rest[rest_slot(rest, REST_SPAN, j + 1)] = work[FT_FLUX_SPAN, col(j + 1)]
         if HAS_RESISTANCE:
-            for k in range(NAUX):
-                coefficients[k] = aux_right_quarter[k, a]
-            impulse = _resistance_point(right, coefficients, params)
-            for k in range(NAUX):
-                coefficients[k] = aux_left_quarter[k, b]
-            impulse = half_dt * (impulse + _resistance_point(left, coefficients, params))
+            impulse = half_dt * quarter_resistance(right, left, source, a, b, params, coefficients)
             if HAS_REST_COEFFICIENTS:
                 rest[rest_slot(rest, REST_IMPULSE, j)] = impulse
             state[MOMENTUM] = resist(state[MOMENTUM], impulse)
         new = col(NG + j)
         for k in range(NAUX):
-            coefficients[k] = aux_dst[k, new]
+            coefficients[k] = target.aux[k, new]
         if HAS_CORRECTION:
             _correct_point(state, coefficients, params, dt)
         # Counted here, bounded after the loop (as the NT kernel's average_cells does).
@@ -534,14 +586,7 @@ def ft_average(
         for v in range(NV):
             dst[v, new] = state[v]
     if tails > 0:
-        for j in range(count):
-            new = col(NG + j)
-            bounded, changed = bounded_tail_momentum(
-                src, first + j, dst[DEPTH, new], dst[MOMENTUM, new], dt, aux_centre, params,
-                probe, probe_coefficients, result,
-            )  # fmt: skip
-            if changed:
-                dst[MOMENTUM, new] = bounded
+        ft_bound_tails(src, dst, first, target.cells, dt, source.aux, params)
 
 
 @njit(cache=True)
@@ -577,14 +622,15 @@ def margins_inside(margins, x_low, x_high, dx):
 
 
 @njit(cache=True, error_model="numpy")
-def ft_step(
-    src, dst, data, n_src, n_dst, shift, src_staggered, dt, dx, x_src, x_padded, x_dst,
-    aux_centre, aux_left_quarter, aux_right_quarter, aux_dst, params, bc_left, bc_right, work,
-    margins, new_margins, profiles, margin_of, x_low, x_high, uniform, uniform_values,
-):  # fmt: skip
-    """One front-tracking step from ``src`` (margins ``margins``) into ``dst`` (margins
-    ``new_margins``), as ``FrontTrackingNT._raw_step``. Returns FT_OK, FT_RETRY (a negative
-    depth), FT_MARGIN_NOT_FINITE or FT_MARGIN_OUTSIDE (``new_margins`` then tell which)."""
+def ft_step(src, dst, source, target, shift, dt, dx, params, boundary, work, tracking, row):
+    """One front-tracking step from ``src`` (cells of the :class:`FrontFamily` ``source``,
+    margins in row ``row`` of ``tracking.margins``) into ``dst`` (cells of ``target``, margins
+    into row ``row + 1``), as ``FrontTrackingNT._raw_step``; ``shift`` is -1 from the primary
+    family, 0 from the staggered one. Returns FT_OK, FT_RETRY (a negative depth),
+    FT_MARGIN_NOT_FINITE or FT_MARGIN_OUTSIDE (the new margins then tell which)."""
+    n_src, n_dst, x_padded = source.cells, target.cells, source.x_padded
+    margins, new_margins = tracking.margins[row], tracking.margins[row + 1]
+    profiles, margin_of, data = tracking.profiles, tracking.margin_of, tracking.data
     for side in (0, 1):
         new_margins[2 * side] = np.nan
         new_margins[2 * side + 1] = np.nan
@@ -593,12 +639,15 @@ def ft_step(
             continue
         sign = 2.0 * side - 1.0
         fit_margin(
-            src, n_src, x_src, dx, margins[2 * side], margins[2 * side + 1], sign, profiles[side]
-        )
+            src, n_src, source.x, dx, margins[2 * side], margins[2 * side + 1], sign,
+            profiles[side],
+        )  # fmt: skip
     for side in (0, 1):
         if np.isnan(margins[2 * side]):
             continue
-        position, velocity = move_margin(profiles[side], dt, params, uniform, uniform_values)
+        position, velocity = move_margin(
+            profiles[side], dt, params, tracking.uniform, tracking.uniform_values
+        )
         new_margins[2 * side] = position
         new_margins[2 * side + 1] = velocity
         if not (np.isfinite(position) and np.isfinite(velocity)):
@@ -606,10 +655,10 @@ def ft_step(
         profile = profiles[side]
         profile[P_MIDDLE_POSITION] = 0.5 * (profile[P_POSITION] + position)
         profile[P_MIDDLE_VELOCITY] = 0.5 * (profile[P_VELOCITY] + velocity)
-    if not margins_inside(new_margins, x_low, x_high, dx):
+    if not margins_inside(new_margins, tracking.x_low, tracking.x_high, dx):
         return FT_MARGIN_OUTSIDE
-    _fill_left(src, n_src, NG, src_staggered, bc_left)
-    _fill_right(src, n_src, NG, src_staggered, bc_right)
+    _fill_left(src, n_src, NG, shift >= 0, boundary.left)
+    _fill_right(src, n_src, NG, shift >= 0, boundary.right)
     n_pad = n_src + 2 * NG
     for v in range(NV):
         for i in range(n_pad):
@@ -624,18 +673,15 @@ def ft_step(
             margin_cell(x_padded, n_pad, dx, margins[2 * side], profiles[side][P_SIGN]) - first
         )
     ft_predict(
-        src, data, first, n_dst + 1, dt, dx, x_padded, aux_centre, params, work, profiles,
+        src, data, first, n_dst + 1, dt, dx, x_padded, source.aux, params, work, profiles,
         margin_of,
     )  # fmt: skip
-    ft_average(
-        src, dst, first, n_dst, dt, dx, aux_centre, aux_left_quarter, aux_right_quarter, aux_dst,
-        params, work,
-    )  # fmt: skip
+    ft_average(src, dst, first, source, target, dt, dx, params, work)
     if HAS_REST_COEFFICIENTS:
         # As the NT kernel's nt_step (rule 3 of docs/design.md, "Earth pressure").
         seam = 0 if n_dst == n_src and shift < 0 else -1
         hold_static_runs(dst, n_dst, seam, rest_rows(work))
-    confine(dst, n_dst, x_dst, dx, new_margins)
+    confine(dst, n_dst, target.x, dx, new_margins)
     state = local_vector(NV)
     coefficients = local_vector(NAUX)
     negative = False
@@ -645,7 +691,7 @@ def ft_step(
             for v in range(NV):
                 state[v] = dst[v, c]
             for k in range(NAUX):
-                coefficients[k] = aux_dst[k, c]
+                coefficients[k] = target.aux[k, c]
             _correct_point(state, coefficients, params, dt)
             for v in range(NV):
                 dst[v, c] = state[v]
@@ -734,18 +780,65 @@ def record(history, row, t, margins):
 
 
 @njit(cache=True, error_model="numpy")
-def ft_advance(
-    w0, w1, w2, data, n0, n1, t, t_end, cfl, dx, dt_floor, max_pairs, x0, x0_padded, x1,
-    x1_padded, aux0, aux0_left, aux0_right, aux1, aux1_left, aux1_right, params, bc_left,
-    bc_right, work, margins, profiles, margin_of, x_low, x_high, history, uniform, uniform_values,
-):  # fmt: skip
-    """Advance ``w0`` (primary family, margins ``margins[0]``) by step pairs towards ``t_end``,
-    as ``FrontTrackingNT.reference_advance``: one ``dt`` per pair (``stable_dt``, the last pair
-    shortened to land on ``t_end``), the pair redone with half the ``dt`` if a depth would become
-    negative or the state after its first step allows no ``dt`` this large; at most MAX_RETRIES
-    halvings, never below ``dt_floor`` except in the last pair. The margins after every step go
-    to ``history`` (one row each, ``t, x_rear, u_rear, x_front, u_front``); the kernel pauses
-    when it is full or after ``max_pairs`` pairs.
+def ft_pair(
+    src, mid, dst, primary, staggered, dt, last, controls, params, boundary, work, tracking
+):
+    """The two steps of a pair, ``src`` -> ``mid`` -> ``dst`` with one ``dt`` (margins
+    in rows 0 -> 1 -> 2 of ``tracking.margins``), redone with half the ``dt`` while a depth
+    would become negative or the state after the first step allows no ``dt`` this large (``last``
+    then becomes False); at most MAX_RETRIES halvings, never below ``dt_floor`` except in the
+    last pair.
+
+    Returns ``(status, where, dt, last)``: FT_OK; FT_DT_FLOOR; or the failure of step ``where``
+    (1 or 2) of the pair, as :func:`ft_advance` reports it.
+    """
+    dx = controls.dx
+    # The shifts as run-time values (as the NT kernel's step_pair).
+    shift_up, shift_down = 0 * primary.cells - 1, 0 * primary.cells
+    for _ in range(MAX_RETRIES):
+        if dt < controls.dt_floor and not last:
+            break
+        status = ft_step(
+            src, mid, primary, staggered, shift_up, dt, dx, params, boundary, work, tracking, 0
+        )
+        if status == FT_RETRY:
+            dt *= 0.5
+            last = False
+            continue
+        if status != FT_OK:
+            return status, 1, dt, last
+        if first_inadmissible(mid, staggered.cells, staggered.aux, params) >= 0:
+            return FT_INADMISSIBLE, 1, dt, last
+        limit = ft_stable_dt(
+            mid, staggered.cells, staggered.aux, params, FT_CFL_CHECK, dx, tracking.margins[1]
+        )
+        if np.isnan(limit):
+            return FT_SPEED_NOT_FINITE, 1, dt, last
+        if dt > limit:
+            dt *= 0.5
+            last = False
+            continue
+        status = ft_step(
+            mid, dst, staggered, primary, shift_down, dt, dx, params, boundary, work, tracking, 1
+        )
+        if status == FT_RETRY:
+            dt *= 0.5
+            last = False
+            continue
+        if status != FT_OK:
+            return status, 2, dt, last
+        return FT_OK, 0, dt, last
+    return FT_DT_FLOOR, 0, dt, last
+
+
+@njit(cache=True, error_model="numpy")
+def ft_advance(buffers, primary, staggered, t, controls, params, boundary, tracking):
+    """Advance ``buffers.w0`` (cells of the :class:`FrontFamily` ``primary``, margins
+    ``tracking.margins[0]``) by step pairs towards ``controls.t_end``, as
+    ``FrontTrackingNT.reference_advance``: one ``dt`` per pair (``stable_dt``, the last pair
+    shortened to land on ``t_end``), the pair redone with a smaller ``dt`` as :func:`ft_pair`
+    says. The margins after every step go to ``tracking.history`` (one row each, ``t, x_rear,
+    u_rear, x_front, u_front``); the kernel pauses when it is full or after ``max_pairs`` pairs.
 
     Returns ``(t, pairs, rows, status, where, step, dt)``. On success (FT_DONE, FT_PAUSED) the
     state is in ``w0`` and its margins in ``margins[0]``. On a failure ``where`` says what
@@ -753,71 +846,43 @@ def ft_advance(
     speed, or the row of ``margins`` with the margins that are not finite or outside; ``t`` and
     ``step`` are the time and step of the failure (as the reference reports them).
     """
-    buffers = (w0, w1, w2)
+    states = (buffers.w0, buffers.w1, buffers.w2)
     now, full = 0, 2
-    shift_up, shift_down = 0 * n0 - 1, 0 * n0
-    from_primary, from_staggered = n0 < 0, n0 >= 0
+    n0, margins, history = primary.cells, tracking.margins, tracking.history
     pairs = 0
     rows = 0
     steps = 0
     dt = 0.0
-    while t < t_end:
-        if pairs >= max_pairs or rows + 2 > history.shape[0]:
+    while t < controls.t_end:
+        if pairs >= controls.max_pairs or rows + 2 > history.shape[0]:
             break
-        dt = ft_stable_dt(buffers[now], n0, aux0, params, cfl, dx, margins[0])
+        dt = ft_stable_dt(
+            states[now], n0, primary.aux, params, controls.cfl, controls.dx, margins[0]
+        )
         if np.isnan(dt):
-            if first_inadmissible(buffers[now], n0, aux0, params) >= 0:
+            if first_inadmissible(states[now], n0, primary.aux, params) >= 0:
                 return t, pairs, rows, FT_INADMISSIBLE, now, 0, dt
             return t, pairs, rows, FT_SPEED_NOT_FINITE, now, 0, dt
-        last = 2.0 * dt >= t_end - t
+        last = 2.0 * dt >= controls.t_end - t
         if last:
-            dt = 0.5 * (t_end - t)
-        accepted = False
-        for _ in range(MAX_RETRIES):
-            if dt < dt_floor and not last:
-                break
-            status = ft_step(
-                buffers[now], w1, data, n0, n1, shift_up, from_primary, dt, dx, x0, x0_padded,
-                x1, aux0, aux0_left, aux0_right, aux1, params, bc_left, bc_right, work,
-                margins[0], margins[1], profiles, margin_of, x_low, x_high, uniform,
-                uniform_values,
-            )  # fmt: skip
-            if status == FT_RETRY:
-                dt *= 0.5
-                last = False
-                continue
-            if status != FT_OK:
-                return t + dt, pairs, rows, status, 1, steps + 1, dt
-            if first_inadmissible(w1, n1, aux1, params) >= 0:
-                return t + dt, pairs, rows, FT_INADMISSIBLE, 1, steps + 1, dt
-            limit = ft_stable_dt(w1, n1, aux1, params, FT_CFL_CHECK, dx, margins[1])
-            if np.isnan(limit):
-                return t + dt, pairs, rows, FT_SPEED_NOT_FINITE, 1, steps + 1, dt
-            if dt > limit:
-                dt *= 0.5
-                last = False
-                continue
-            status = ft_step(
-                w1, buffers[full], data, n1, n0, shift_down, from_staggered, dt, dx, x1,
-                x1_padded, x0, aux1, aux1_left, aux1_right, aux0, params, bc_left, bc_right,
-                work, margins[1], margins[2], profiles, margin_of, x_low, x_high, uniform,
-                uniform_values,
-            )  # fmt: skip
-            if status == FT_RETRY:
-                dt *= 0.5
-                last = False
-                continue
-            if status != FT_OK:
-                return (t + dt) + dt, pairs, rows, status, 2, steps + 2, dt
-            accepted = True
-            break
-        if not accepted:
+            dt = 0.5 * (controls.t_end - t)
+        status, where, dt, last = ft_pair(
+            states[now], buffers.w1, states[full], primary, staggered, dt, last, controls, params,
+            boundary, buffers.work, tracking,
+        )  # fmt: skip
+        if status == FT_DT_FLOOR:
             return t, pairs, rows, FT_DT_FLOOR, now, steps, dt
+        if status != FT_OK:
+            failed_at = t + dt if where == 1 else (t + dt) + dt
+            return failed_at, pairs, rows, status, where, steps + where, dt
         middle = t + dt
-        t = t_end if last else middle + dt
-        if first_inadmissible(buffers[full], n0, aux0, params) >= 0:
+        t = controls.t_end if last else middle + dt
+        if first_inadmissible(states[full], n0, primary.aux, params) >= 0:
             return t, pairs, rows, FT_INADMISSIBLE, full, steps + 2, dt
-        if not (HAS_RESISTANCE and held_at_rest(buffers[now], w1, buffers[full], n0, n1, margins)):
+        if not (
+            HAS_RESISTANCE
+            and held_at_rest(states[now], buffers.w1, states[full], n0, staggered.cells, margins)
+        ):
             now, full = full, now
         record(history, rows, middle, margins[1])
         record(history, rows + 1, t, margins[2])
@@ -827,6 +892,6 @@ def ft_advance(
         steps += 2
         pairs += 1
     if now != 0:
-        copy_cells(buffers[now], w0, n0)
-    status = FT_DONE if t >= t_end else FT_PAUSED
+        copy_cells(states[now], buffers.w0, n0)
+    status = FT_DONE if t >= controls.t_end else FT_PAUSED
     return t, pairs, rows, status, 0, steps, dt

@@ -372,6 +372,10 @@ class FrontTrackingNT(NessyahuTadmor):
         """Whether the front-tracking kernel's first call compiles (it is not in the cache)."""
         return not compiled_before(self.ft_kernels, "ft_advance")
 
+    def _compiled_module(self) -> Any:
+        """The generated module that :meth:`advance` runs."""
+        return self.ft_kernels
+
     @property
     def ft_kernels(self) -> Any:
         """The generated compiled front-tracking kernels (built on first use)."""
@@ -625,6 +629,8 @@ class FrontTrackingNT(NessyahuTadmor):
         """
         state = self._start(state, t_end)
         assert state.margins is not None
+        if not self._compiled:
+            self.compile(state)
         kernels = self.ft_kernels
         n = self.n_primary
         self._w0[:, GHOSTS : GHOSTS + n] = state.q
@@ -632,15 +638,30 @@ class FrontTrackingNT(NessyahuTadmor):
         margins[:] = np.nan
         margins[0] = state.margins.row(state.t)[1:]
         history = [np.array([state.margins.row(state.t)])]
-        a0, a0l, a0r = self._aux[0.0]
-        a1, a1l, a1r = self._aux[0.5]
         dx = self.grid.dx
-        x_low = self.grid.x_min + BOUNDARY_CLEARANCE * dx
-        x_high = self.grid.x_max - BOUNDARY_CLEARANCE * dx
         pairs_per_call = max(1, FT_CELL_UPDATES_PER_CALL // (2 * n))
         # Coefficients the same everywhere (a plane chute): asked once, not at every margin.
         uniform = self.model.uniform_aux()
         uniform_values = self._margin_aux(self.grid.x_min) if uniform else np.zeros(1)
+        bundles = self.kernels  # the NT kernels, whose argument bundles the FT kernels take
+        buffers = bundles.Buffers(self._w0, self._w1, self._w2, self._ft_work)
+        primary = self._front_family(kernels, 0.0)
+        staggered = self._front_family(kernels, 0.5)
+        controls = bundles.Controls(
+            float(t_end), self.cfl, dx, DT_FLOOR_RELATIVE * dx, pairs_per_call
+        )
+        boundary = bundles.Boundary(self.bc_left, self.bc_right)
+        tracking = kernels.Tracking(
+            margins,
+            self._profiles_buffer,
+            self._margin_of,
+            self._history,
+            self._stencil,
+            self.grid.x_min + BOUNDARY_CLEARANCE * dx,
+            self.grid.x_max - BOUNDARY_CLEARANCE * dx,
+            uniform,
+            uniform_values,
+        )
         t, steps = state.t, 0
         while True:
             # The kernel module is shared by every scheme with the same model class (and
@@ -650,13 +671,8 @@ class FrontTrackingNT(NessyahuTadmor):
             with _CALLBACK_LOCK:
                 kernels.margin_aux_source = self._margin_aux
                 t, pairs, rows, status, where, step, dt = kernels.ft_advance(
-                    self._w0, self._w1, self._w2, self._stencil, n, self.n_staggered, t,
-                    float(t_end), self.cfl, dx, DT_FLOOR_RELATIVE * dx, pairs_per_call,
-                    self._centres[0.0], self._padded[0.0], self._centres[0.5], self._padded[0.5],
-                    a0, a0l, a0r, a1, a1l, a1r, self.params, self.bc_left, self.bc_right,
-                    self._ft_work, margins, self._profiles_buffer, self._margin_of, x_low, x_high,
-                    self._history, uniform, uniform_values,
-                )  # fmt: skip
+                    buffers, primary, staggered, t, controls, self.params, boundary, tracking
+                )
             history.append(self._history[:rows].copy())
             if status not in (kernels.FT_DONE, kernels.FT_PAUSED):
                 self._raise_compiled_failure(status, where, t, steps + step, dt)
@@ -673,6 +689,15 @@ class FrontTrackingNT(NessyahuTadmor):
             _margins_of_row(margins[0]),
         )
         return AdvanceResult(final, steps, np.concatenate(history))
+
+    def _front_family(self, kernels: Any, offset: float) -> Any:
+        """The FT kernels' ``FrontFamily`` bundle of the primary (``offset`` 0) or staggered
+        (1/2) cells: their number, the coefficients at their centres and quarter points, and
+        the centres of the real and of the padded cells."""
+        count = self.n_primary if offset == 0.0 else self.n_staggered
+        return kernels.FrontFamily(
+            count, *self._aux[offset], self._centres[offset], self._padded[offset]
+        )
 
     def _raise_compiled_failure(
         self, status: int, where: int, t: float, step: int, dt: float

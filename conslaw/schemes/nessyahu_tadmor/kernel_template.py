@@ -60,7 +60,9 @@ The arithmetic of every cell is that of :meth:`NessyahuTadmor.reference_step`, o
 operation (no fast-math), so the two agree to round-off.
 """
 
-import numpy as np  # noqa: I001 (the binding block below is replaced when generated)
+from typing import NamedTuple  # noqa: I001 (the binding block below is replaced when generated)
+
+import numpy as np
 from numba import njit
 
 from conslaw.schemes.nessyahu_tadmor.constants import DEPTH_SLOPE_LIMIT, ROUND_OFF, THIN_TAIL
@@ -151,6 +153,47 @@ STACK_SIZE = 64
 LANES = 8
 # Index of the built-in reconstructor's code in the kernel's parameter vector.
 SLOPE_CODE = NPARAMS
+
+
+# Argument bundles of the entry points (numba types a named tuple field by field, caches
+# functions taking them, and reads a field at no cost): what belongs together travels together.
+class Family(NamedTuple):
+    """One cell family (primary or staggered) as a step reads or writes it: its number of real
+    cells and the model's coefficient rows (padded columns like the state) at the cell centres
+    and at the left and right quarter points."""
+
+    cells: int
+    aux: np.ndarray
+    aux_left: np.ndarray
+    aux_right: np.ndarray
+
+
+class Buffers(NamedTuple):
+    """The three padded state buffers of a step pair (the state is in ``w0``, the half step goes
+    to ``w1``, the full step to ``w2``) and the work array."""
+
+    w0: np.ndarray
+    w1: np.ndarray
+    w2: np.ndarray
+    work: np.ndarray
+
+
+class Controls(NamedTuple):
+    """What an advance aims at and may do: the end time, the Courant number, the cell width,
+    the smallest time step before a breakdown, and the step pairs before it pauses."""
+
+    t_end: float
+    cfl: float
+    dx: float
+    dt_floor: float
+    max_pairs: int
+
+
+class Boundary(NamedTuple):
+    """The data of the left and right boundary conditions (the fill functions' arrays)."""
+
+    left: np.ndarray
+    right: np.ndarray
 
 
 def work_size(n_cells):
@@ -654,6 +697,54 @@ def interface_fluxes(
     _flux_point(state_right, coefficients_right, params, flux_right)
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def centre_fluxes(
+    work, j, aux_centre, left, right, params, predicted, neighbour, flux_left, flux_right
+):
+    """The fluxes at the two ends of new cell ``j`` (at the centres of its source cells ``left``
+    and ``right``) into ``flux_left`` and ``flux_right``: the FLUX rows of work columns ``j``,
+    ``j + 1``, or with interface coefficients the fluxes of the mid-step states those rows hold
+    (:func:`interface_fluxes`; ``predicted`` and ``neighbour`` are scratch)."""
+    if HAS_INTERFACE_COEFFICIENTS:
+        for v in range(NV):
+            predicted[v] = work[slot(FLUX + v, j)]
+            neighbour[v] = work[slot(FLUX + v, j + 1)]
+        interface_fluxes(
+            predicted, neighbour, aux_centre, left, right, params, flux_left, flux_right
+        )
+    else:
+        for v in range(NV):
+            flux_left[v] = work[slot(FLUX + v, j)]
+            flux_right[v] = work[slot(FLUX + v, j + 1)]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def record_rest_terms(work, j, g, momentum, ratio, flux_left, flux_right):
+    """For :func:`hold_static_runs`: new cell ``g``'s momentum with the low end of the rest
+    range at both ends instead (``momentum`` is with the cell's own coefficients), its resistive
+    impulse (0 until the resistance is known) and the FLUX_SPAN of its two source cells (work
+    columns ``j``, ``j + 1``)."""
+    low = (work[slot(FLUX_LOW, j + 1)] - work[slot(FLUX_LOW, j)]) - (
+        flux_right[MOMENTUM] - flux_left[MOMENTUM]
+    )
+    work[rest_slot(work, REST_MOMENTUM, g)] = momentum - ratio * low
+    work[rest_slot(work, REST_IMPULSE, g)] = 0.0
+    work[rest_slot(work, REST_SPAN, g)] = work[slot(FLUX_SPAN, j)]
+    work[rest_slot(work, REST_SPAN, g + 1)] = work[slot(FLUX_SPAN, j + 1)]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def resisted(work, j, g, momentum, half_dt):
+    """New cell ``g``'s ``momentum`` after the resistance at its two quarter points (eqs. 13-14,
+    the RESIST rows of work columns ``j``, ``j + 1``), applied with the stopping rule
+    (docs/design.md, "Savage–Hutter specifics"); with rest coefficients the impulse is kept for
+    :func:`hold_static_runs`."""
+    impulse = half_dt * (work[slot(RESIST_RIGHT, j)] + work[slot(RESIST_LEFT, j + 1)])
+    if HAS_REST_COEFFICIENTS:
+        work[rest_slot(work, REST_IMPULSE, g)] = impulse
+    return resist(momentum, impulse)
+
+
 @njit(cache=True, error_model="numpy")
 def average_cells(src, dst, first, dst_first, count, dt, dx, aux_centre, aux_dst, parameters, work):
     """The new cells ``dst_first .. dst_first + count - 1`` (eq. 10) from source cells
@@ -679,17 +770,9 @@ def average_cells(src, dst, first, dst_first, count, dt, dx, aux_centre, aux_dst
     for j in range(count):
         left = col(first + j)
         right = col(first + j + 1)
-        if HAS_INTERFACE_COEFFICIENTS:
-            for v in range(NV):
-                predicted[v] = work[slot(FLUX + v, j)]
-                neighbour[v] = work[slot(FLUX + v, j + 1)]
-            interface_fluxes(
-                predicted, neighbour, aux_centre, left, right, params, flux_left, flux_right
-            )
-        else:
-            for v in range(NV):
-                flux_left[v] = work[slot(FLUX + v, j)]
-                flux_right[v] = work[slot(FLUX + v, j + 1)]
+        centre_fluxes(
+            work, j, aux_centre, left, right, params, predicted, neighbour, flux_left, flux_right
+        )
         if HAS_BALANCED_SOURCE:
             for v in range(NV):
                 predicted[v] = work[slot(SOURCE_LEFT + v, j)]
@@ -712,22 +795,11 @@ def average_cells(src, dst, first, dst_first, count, dt, dx, aux_centre, aux_dst
                 )
             state[v] = value
         if HAS_REST_COEFFICIENTS:
-            # The momentum with the low end of the rest range at both ends instead.
-            g = dst_first - NG + j
-            low = (work[slot(FLUX_LOW, j + 1)] - work[slot(FLUX_LOW, j)]) - (
-                flux_right[MOMENTUM] - flux_left[MOMENTUM]
+            record_rest_terms(
+                work, j, dst_first - NG + j, state[MOMENTUM], ratio, flux_left, flux_right
             )
-            work[rest_slot(work, REST_MOMENTUM, g)] = state[MOMENTUM] - ratio * low
-            work[rest_slot(work, REST_IMPULSE, g)] = 0.0
-            work[rest_slot(work, REST_SPAN, g)] = work[slot(FLUX_SPAN, j)]
-            work[rest_slot(work, REST_SPAN, g + 1)] = work[slot(FLUX_SPAN, j + 1)]
         if HAS_RESISTANCE:
-            #  Eqs. (13)-(14) for the resistance, applied with the stopping rule (docs/design.md,
-            # "Savage–Hutter specifics").
-            impulse = half_dt * (work[slot(RESIST_RIGHT, j)] + work[slot(RESIST_LEFT, j + 1)])
-            if HAS_REST_COEFFICIENTS:
-                work[rest_slot(work, REST_IMPULSE, dst_first - NG + j)] = impulse
-            state[MOMENTUM] = resist(state[MOMENTUM], impulse)
+            state[MOMENTUM] = resisted(work, j, dst_first - NG + j, state[MOMENTUM], half_dt)
         new = col(dst_first + j)
         for k in range(NAUX):
             coefficients[k] = aux_dst[k, new]
@@ -893,32 +965,20 @@ def block_speed(work, count):
 
 
 @njit(cache=True, error_model="numpy")
-def nt_step(
-    src,
-    dst,
-    n_src,
-    n_dst,
-    shift,
-    src_staggered,
-    dt,
-    dx,
-    aux_centre,
-    aux_left_quarter,
-    aux_right_quarter,
-    aux_dst,
-    params,
-    bc_left,
-    bc_right,
-    work,
-):
-    """One staggered step from ``src`` (n_src cells) into ``dst`` (n_dst cells), one pass.
+def nt_step(src, dst, source, target, shift, dt, dx, params, boundary, work):
+    """One staggered step from ``src`` (cells of the :class:`Family` ``source``) into ``dst``
+    (cells of ``target``), one pass; ``shift`` is -1 from the primary family, 0 from the
+    staggered one.
 
     Returns ``(largest, bad, negative, moving)``: the largest wave speed of the new cells, the
     first of them that is inadmissible or has no finite speed (``(-1, i)``/``(-2, i)`` as in
     :func:`max_speed`, else ``(largest, -1)``), and how many have a negative depth and a
     non-zero momentum.
     """
-    fill_ghosts(src, n_src, src_staggered, bc_left, bc_right)
+    n_src, n_dst = source.cells, target.cells
+    aux_centre, aux_dst = source.aux, target.aux
+    src_staggered = shift >= 0
+    fill_ghosts(src, n_src, src_staggered, boundary.left, boundary.right)
     first = NG + shift
     largest = 0.0
     bad = 0
@@ -927,8 +987,8 @@ def nt_step(
     for start in range(0, n_dst, BLOCK):
         count = min(BLOCK, n_dst - start)
         predict_cells(
-            src, first + start, count + 1, dt, dx, aux_centre, aux_left_quarter,
-            aux_right_quarter, params, work,
+            src, first + start, count + 1, dt, dx, aux_centre, source.aux_left, source.aux_right,
+            params, work,
         )  # fmt: skip
         block_negative, block_moving, block_bad = average_cells(
             src, dst, first + start, NG + start, count, dt, dx, aux_centre, aux_dst, params, work
@@ -1117,31 +1177,42 @@ def hold_resting_cells(w0, w1, w2, n0, dt, dx, aux0, aux1, params, work):
                 return 0.0, 0
             if apply == 0 or depth == w2[DEPTH, c]:
                 continue
-            for v in range(NV):
-                state[v] = w2[v, c]
-            if rest and state[MOMENTUM] != 0.0:
-                # A cell dry at the start keeps the velocity of what it may still receive.
-                state[MOMENTUM] *= depth / state[DEPTH]
-            elif depth < state[DEPTH]:
-                # A moving cell that gives depth back is no faster than it was at the start or
-                # end of the pair (the depth it gives back carried no momentum of its own).
-                fastest = max(abs(cell_velocity(w0, NG + j)), abs(cell_velocity(w2, NG + j)))
-                if abs(state[MOMENTUM]) > depth * fastest:
-                    state[MOMENTUM] = np.copysign(depth * fastest, state[MOMENTUM])
-            state[DEPTH] = depth
-            for k in range(NAUX):
-                coefficients[k] = aux0[k, c]
-            if HAS_CORRECTION:
-                _correct_point(state, coefficients, local, dt)
-            if state[MOMENTUM] == 0.0 and w2[MOMENTUM, c] != 0.0:
-                stopped += 1
-            for v in range(NV):
-                w2[v, c] = state[v]
-            if depth >= DRY_DEPTH:  # a dry cell's wave speed cannot matter
-                speed = _max_speed_point(state, coefficients, local)
-                if speed > largest:
-                    largest = speed
+            speed, stops = give_depth(w0, w2, j, rest, depth, dt, aux0, local, state, coefficients)
+            stopped += stops
+            if speed > largest:
+                largest = speed
     return largest, stopped
+
+
+@njit(cache=True, error_model="numpy")
+def give_depth(w0, w2, j, rest, depth, dt, aux0, params, state, coefficients):
+    """Set real cell ``j`` of ``w2`` (the state after a pair from ``w0``) to the depth ``depth``
+    that :func:`hold_resting_cells` found: a cell at rest keeps its velocity, a moving cell that
+    gives depth back its momentum but no more speed than at either end of the pair; then the
+    model's correction. Returns the cell's wave speed (0 if dry) and 1 if it stopped moving."""
+    c = col(NG + j)
+    for v in range(NV):
+        state[v] = w2[v, c]
+    if rest and state[MOMENTUM] != 0.0:
+        # A cell dry at the start keeps the velocity of what it may still receive.
+        state[MOMENTUM] *= depth / state[DEPTH]
+    elif depth < state[DEPTH]:
+        # A moving cell that gives depth back is no faster than it was at the start or end of
+        # the pair (the depth it gives back carried no momentum of its own).
+        fastest = max(abs(cell_velocity(w0, NG + j)), abs(cell_velocity(w2, NG + j)))
+        if abs(state[MOMENTUM]) > depth * fastest:
+            state[MOMENTUM] = np.copysign(depth * fastest, state[MOMENTUM])
+    state[DEPTH] = depth
+    for k in range(NAUX):
+        coefficients[k] = aux0[k, c]
+    if HAS_CORRECTION:
+        _correct_point(state, coefficients, params, dt)
+    stops = int(state[MOMENTUM] == 0.0 and w2[MOMENTUM, c] != 0.0)
+    for v in range(NV):
+        w2[v, c] = state[v]
+    if depth >= DRY_DEPTH:  # a dry cell's wave speed cannot matter
+        return _max_speed_point(state, coefficients, params), stops
+    return 0.0, stops
 
 
 @njit(cache=True)
@@ -1153,36 +1224,60 @@ def finish(buffers, now, n0, t, pairs, status, family, cell, dt):
 
 
 @njit(cache=True, error_model="numpy")
-def advance(
-    w0,
-    w1,
-    w2,
-    n0,
-    n1,
-    t,
-    t_end,
-    cfl,
-    dx,
-    dt_floor,
-    max_pairs,
-    aux0,
-    aux0_left,
-    aux0_right,
-    aux1,
-    aux1_left,
-    aux1_right,
-    params,
-    bc_left,
-    bc_right,
-    work,
-):
-    """Advance ``w0`` (primary family) by pairs of steps towards ``t_end``.
+def step_pair(src, mid, dst, primary, staggered, dt, last, controls, params, boundary, work):
+    """The two steps of a pair, ``src`` -> ``mid`` (staggered) -> ``dst`` (primary), with one
+    ``dt``: the pair is redone with half the ``dt`` while a depth would become negative, and
+    with the ``dt`` of the Courant bound if the second step's would reach 1/2 (``last`` then
+    becomes False: the pair no longer lands on the end time).
+
+    Returns ``(status, family, cell, dt, last, speed, bad, moving_mid, moving_end)``:
+    ``STATUS_DONE`` with the largest wave speed, first bad cell and number of moving cells of
+    ``dst`` (and the moving cells of ``mid``), or a failure status with the family and cell
+    that :func:`advance` reports.
+    """
+    dx = controls.dx
+    # The shifts as run-time values: constants would be typed as literals and compile nt_step
+    # once per family, on top of the one-step interface.
+    shift_up, shift_down = 0 * primary.cells - 1, 0 * primary.cells
+    for _ in range(MAX_RETRIES):
+        if dt < controls.dt_floor and not last:
+            return STATUS_DT_FLOOR, 0, -1, dt, last, 0.0, -1, 0, 0
+        speed1, bad1, negative1, moving1 = nt_step(
+            src, mid, primary, staggered, shift_up, dt, dx, params, boundary, work
+        )
+        if negative1 > 0:
+            dt *= 0.5
+            last = False
+            continue
+        if bad1 >= 0:
+            return failure(speed1), 1, bad1, dt, last, 0.0, -1, 0, 0
+        if speed1 * dt / dx >= CFL_LIMIT:
+            dt = controls.cfl * dx / speed1
+            last = False
+            continue
+        speed2, bad2, negative2, moving2 = nt_step(
+            mid, dst, staggered, primary, shift_down, dt, dx, params, boundary, work
+        )
+        if negative2 > 0:
+            dt *= 0.5
+            last = False
+            continue
+        return STATUS_DONE, 0, -1, dt, last, speed2, bad2, moving1, moving2
+    if dt < controls.dt_floor:
+        return STATUS_DT_FLOOR, 0, -1, dt, last, 0.0, -1, 0, 0
+    return STATUS_CFL_UNREACHABLE, 1, -1, dt, last, 0.0, -1, 0, 0
+
+
+@njit(cache=True, error_model="numpy")
+def advance(buffers, primary, staggered, t, controls, params, boundary):
+    """Advance ``buffers.w0`` (cells of the :class:`Family` ``primary``) by pairs of steps
+    towards ``controls.t_end``.
 
     Each pair uses one ``dt = cfl dx / a_max`` (at most ``source_step_limit``) for both half
     steps, so the state is back on the primary family after every pair; the last pair is
     shortened to land on ``t_end`` exactly. A pair is redone with a smaller ``dt`` (the state is
     untouched until the pair is accepted) if the Courant number of its second half would reach
-    1/2, or if a depth would become negative.
+    1/2, or if a depth would become negative (:func:`step_pair`).
     With a resistance, a pair that starts and ends with every momentum exactly zero leaves the
     state unchanged (static equilibrium under Coulomb friction).
 
@@ -1192,70 +1287,40 @@ def advance(
 
     Returns ``(t, pairs, status, family, cell, dt)``.
     """
-    # The state is in buffers[now]; the half step always goes to w1, the full step to
-    # buffers[full]; accepting a pair swaps now and full.
-    buffers = (w0, w1, w2)
+    # The state is in states[now]; the half step always goes to w1, the full step to
+    # states[full]; accepting a pair swaps now and full.
+    states = (buffers.w0, buffers.w1, buffers.w2)
     now, full = 0, 2
-    # The family arguments of nt_step as run-time values (n0 >= 0 always): constants would be
-    # typed as literals and compile nt_step once per family, on top of the one-step interface.
-    shift_up, shift_down = 0 * n0 - 1, 0 * n0
-    from_primary, from_staggered = n0 < 0, n0 >= 0
+    n0, dx, cfl = primary.cells, controls.dx, controls.cfl
     pairs = 0
     dt = 0.0
-    speed, bad = max_speed(w0, n0, aux0, params)
-    moving = count_moving(w0, n0)
-    while t < t_end:
-        if pairs >= max_pairs:
-            return finish(buffers, now, n0, t, pairs, STATUS_PAUSED, 0, -1, dt)
+    speed, bad = max_speed(states[0], n0, primary.aux, params)
+    moving = count_moving(states[0], n0)
+    while t < controls.t_end:
+        if pairs >= controls.max_pairs:
+            return finish(states, now, n0, t, pairs, STATUS_PAUSED, 0, -1, dt)
         if bad >= 0:
-            return finish(buffers, now, n0, t, pairs, failure(speed), 0, bad, dt)
-        remaining = t_end - t
+            return finish(states, now, n0, t, pairs, failure(speed), 0, bad, dt)
+        remaining = controls.t_end - t
         dt = cfl * dx / speed if speed > 0.0 else remaining
-        dt = min(dt, source_step_limit(buffers[now], n0, aux0, params, cfl, dx))
+        dt = min(dt, source_step_limit(states[now], n0, primary.aux, params, cfl, dx))
         last = False
         if 2.0 * dt >= remaining:
             dt = 0.5 * remaining
             last = True
-        resting = HAS_RESISTANCE and moving == 0
-        accepted = False
-        speed2, bad2, moving1, moving2 = 0.0, -1, 0, 0
-        for _ in range(MAX_RETRIES):
-            if dt < dt_floor and not last:
-                return finish(buffers, now, n0, t, pairs, STATUS_DT_FLOOR, 0, -1, dt)
-            speed1, bad1, negative1, moving1 = nt_step(
-                buffers[now], w1, n0, n1, shift_up, from_primary, dt, dx, aux0, aux0_left,
-                aux0_right, aux1, params, bc_left, bc_right, work,
-            )  # fmt: skip
-            if negative1 > 0:
-                dt *= 0.5
-                last = False
-                continue
-            if bad1 >= 0:
-                return finish(buffers, now, n0, t, pairs, failure(speed1), 1, bad1, dt)
-            if speed1 * dt / dx >= CFL_LIMIT:
-                dt = cfl * dx / speed1
-                last = False
-                continue
-            speed2, bad2, negative2, moving2 = nt_step(
-                w1, buffers[full], n1, n0, shift_down, from_staggered, dt, dx, aux1, aux1_left,
-                aux1_right, aux0, params, bc_left, bc_right, work,
-            )  # fmt: skip
-            if negative2 > 0:
-                dt *= 0.5
-                last = False
-                continue
-            accepted = True
-            break
-        if not accepted:
-            if dt < dt_floor:
-                return finish(buffers, now, n0, t, pairs, STATUS_DT_FLOOR, 0, -1, dt)
-            return finish(buffers, now, n0, t, pairs, STATUS_CFL_UNREACHABLE, 1, -1, dt)
-        static = resting and moving1 == 0 and moving2 == 0
+        status, family, cell, dt, last, speed2, bad2, moving1, moving2 = step_pair(
+            states[now], buffers.w1, states[full], primary, staggered, dt, last, controls, params,
+            boundary, buffers.work,
+        )  # fmt: skip
+        if status != STATUS_DONE:
+            return finish(states, now, n0, t, pairs, status, family, cell, dt)
+        static = HAS_RESISTANCE and moving == 0 and moving1 == 0 and moving2 == 0
         if HAS_RESISTANCE and DEPTH >= 0 and MOMENTUM >= 0 and not static and moving < n0:
             # Cells that friction held at rest give no depth away.
             held_speed, stopped = hold_resting_cells(
-                buffers[now], w1, buffers[full], n0, dt, dx, aux0, aux1, params, work
-            )
+                states[now], buffers.w1, states[full], n0, dt, dx, primary.aux, staggered.aux,
+                params, buffers.work,
+            )  # fmt: skip
             speed2 = max(speed2, held_speed)
             moving2 -= stopped
         if not static:
@@ -1264,7 +1329,7 @@ def advance(
             # instead of the staggered re-projection, which would smear a pile at rest.
             now, full = full, now
             speed, bad, moving = speed2, bad2, moving2
-        t = t_end if last else t + 2.0 * dt
+        t = controls.t_end if last else t + 2.0 * dt
         pairs += 1
     status = failure(speed) if bad >= 0 else STATUS_DONE
-    return finish(buffers, now, n0, t, pairs, status, 0, bad, dt)
+    return finish(states, now, n0, t, pairs, status, 0, bad, dt)

@@ -15,7 +15,7 @@ from numpy.typing import NDArray
 
 from conslaw.errors import ConfigError, InadmissibleStateError, SchemeBreakdownError
 from conslaw.grid import Grid
-from conslaw.kernelgen import compiled_before
+from conslaw.kernelgen import compile_lock, compiled_before
 from conslaw.model import Model
 from conslaw.reconstruct import Reconstructor
 from conslaw.reconstruct.base import STENCIL_HALF_WIDTH
@@ -180,6 +180,7 @@ class NessyahuTadmor(Scheme):
         self.bc_right = right.condition.data(model, right.options)
         self._aux = {offset: self._aux_family(offset) for offset in (0.0, 0.5)}
         self._kernels: Any = None
+        self._compiled = False  # whether compile() ran (advance() runs it first otherwise)
         n_pad = self.n_staggered + 2 * GHOSTS
         nv = model.n_vars
         self._w0 = np.zeros((nv, n_pad))
@@ -284,6 +285,19 @@ class NessyahuTadmor(Scheme):
         """Whether the fused kernel's first call compiles (it is not in the kernel cache)."""
         return not compiled_before(self.kernels, "advance")
 
+    def _compiled_module(self) -> Any:
+        """The generated module that :meth:`advance` runs."""
+        return self.kernels
+
+    def compile(self, state: State) -> None:
+        """As :meth:`Scheme.compile` (a zero-length advance), with the kernel module's compile
+        lock held (:func:`~conslaw.kernelgen.compile_lock`): of several processes that need the
+        same kernels, one compiles them and the others load them from the cache. The first
+        :meth:`advance` of a scheme compiles this way if nothing did before."""
+        self._compiled = True
+        with compile_lock(self._compiled_module()):
+            super().compile(state)
+
     def _family(self, state: State) -> tuple[int, bool]:
         staggered = state.offset != 0.0
         n = self.n_staggered if staggered else self.n_primary
@@ -343,27 +357,19 @@ class NessyahuTadmor(Scheme):
         n_src, staggered = self._family(state)
         self._check_step(state, dt)
         n_dst = self.n_primary if staggered else self.n_staggered
-        aux = self._aux[0.5 if staggered else 0.0]
-        aux_dst = self._aux[0.0 if staggered else 0.5][0]
         src = self._w0
         src[:, GHOSTS : GHOSTS + n_src] = state.q
         kernels = self.kernels
         kernels.nt_step(
             src,
             self._w1,
-            n_src,
-            n_dst,
+            self._cell_family(kernels, 0.5 if staggered else 0.0),
+            self._cell_family(kernels, 0.0 if staggered else 0.5),
             0 if staggered else -1,
-            staggered,
             float(dt),
             self.grid.dx,
-            aux[0],
-            aux[1],
-            aux[2],
-            aux_dst,
             self.params,
-            self.bc_left,
-            self.bc_right,
+            kernels.Boundary(self.bc_left, self.bc_right),
             self._work,
         )
         offset = 0.0 if staggered else 0.5
@@ -618,38 +624,23 @@ class NessyahuTadmor(Scheme):
             raise ValueError("advance() starts from the primary grid (offset 0)")
         if not t_end >= state.t:
             raise ConfigError(f"t_end={t_end} is before the state's time {state.t}")
+        if not self._compiled:
+            self.compile(state)
         w0 = self._w0
         w0[:, GHOSTS : GHOSTS + n] = state.q
-        a0, a0l, a0r = self._aux[0.0]
-        a1, a1l, a1r = self._aux[0.5]
         t = state.t
         steps = 0
         dt_floor = DT_FLOOR_RELATIVE * self.grid.dx
         pairs_per_call = max(1, CELL_UPDATES_PER_CALL // (2 * self.n_primary))
         kernels = self.kernels
+        buffers = kernels.Buffers(w0, self._w1, self._w2, self._work)
+        primary = self._cell_family(kernels, 0.0)
+        staggered = self._cell_family(kernels, 0.5)
+        controls = kernels.Controls(float(t_end), self.cfl, self.grid.dx, dt_floor, pairs_per_call)
+        boundary = kernels.Boundary(self.bc_left, self.bc_right)
         while True:
             t, pairs, status, family, cell, dt = kernels.advance(
-                w0,
-                self._w1,
-                self._w2,
-                self.n_primary,
-                self.n_staggered,
-                t,
-                float(t_end),
-                self.cfl,
-                self.grid.dx,
-                dt_floor,
-                pairs_per_call,
-                a0,
-                a0l,
-                a0r,
-                a1,
-                a1l,
-                a1r,
-                self.params,
-                self.bc_left,
-                self.bc_right,
-                self._work,
+                buffers, primary, staggered, t, controls, self.params, boundary
             )
             steps += 2 * pairs
             if status == kernels.STATUS_PAUSED:
@@ -663,6 +654,12 @@ class NessyahuTadmor(Scheme):
         if progress is not None:
             progress(t, steps)
         return AdvanceResult(result, steps)
+
+    def _cell_family(self, kernels: Any, offset: float) -> Any:
+        """The kernels' ``Family`` bundle of the primary (``offset`` 0) or staggered (1/2) cells:
+        their number and the model's coefficients at their centres and quarter points."""
+        count = self.n_primary if offset == 0.0 else self.n_staggered
+        return kernels.Family(count, *self._aux[offset])
 
     def _raise_failure(
         self, status: int, family: int, cell: int, t: float, steps: int, dt: float
