@@ -269,10 +269,13 @@ def test_an_interrupt_swallowed_mid_run_still_stops_the_run(
     """A Ctrl-C whose KeyboardInterrupt is swallowed where it lands (code that catches or
     clears errors can do that; a SIGINT was once lost under the test suite and its run went on
     to the end) still stops the run at its next progress report or output time: exit 130, the
-    one-line message, and the outputs before it intact."""
+    one-line message, and the outputs before it intact; the SIGINT handler of before the run is
+    back (the default one, or SIG_IGN in a process started in the background by a shell without
+    job control, as POSIX shells start such jobs)."""
     advance = NessyahuTadmor.advance
     calls = []
     swallowed = []
+    handler_before = signal.getsignal(signal.SIGINT)
 
     def swallowing_advance(self, state, t_end, progress=None):  # type: ignore[no-untyped-def]
         if t_end > state.t:
@@ -300,7 +303,7 @@ def test_an_interrupt_swallowed_mid_run_still_stops_the_run(
     # before it are kept and 0.15 is not written.
     times, _ = _load_everything(out)
     np.testing.assert_array_equal(times, [0.05, 0.1])
-    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+    assert signal.getsignal(signal.SIGINT) is handler_before
 
 
 #: A thin film (h = 5.96e-8) with momentum -0.514 on 13 periodic cells (g = 1): every wave
