@@ -153,6 +153,16 @@ class Model(ABC):
     #: the surface ``depth + bed`` (surface gradient method), its slope being
     #: ``slope(surface) - dx * bed slope``.
     surface_aux: ClassVar[tuple[int, int] | None] = None
+    #: A two-dimensional model's y-direction functions, with the signatures of ``flux_point``,
+    #: ``jacobian_point`` and ``max_speed_point``: the flux ``g(q)`` of ``q_t + f(q)_x + g(q)_y
+    #: = s``, its Jacobian ``B = dg/dq`` and the largest ``|eigenvalue|`` of ``B``
+    #: (docs/design.md, "Toward two dimensions"). None for a 1D model.
+    flux_y_point: ClassVar[Callable[..., None] | None] = None
+    #: A 2D model's factor of each variable in the mirror image across a y wall (the y
+    #: momentum: -1); None: those across an x wall (:attr:`reflect_signs`).
+    reflect_signs_y: ClassVar[tuple[float, ...] | None] = None
+    jacobian_y_point: ClassVar[Callable[..., None] | None] = None
+    max_speed_y_point: ClassVar[Callable[..., float] | None] = None
     #: Initial-condition kinds this model adds: kind -> (required keys, defaults, description);
     #: built by :meth:`initial_cell_averages`.
     initial_kinds: ClassVar[dict[str, tuple[tuple[str, ...], dict[str, Any], str]]] = {}
@@ -171,12 +181,14 @@ class Model(ABC):
                 )
         self.params = self.Parameters(**params)
         self._arrays: Any = None
+        self._arrays_y: Any = None
 
     def __getstate__(self) -> dict[str, Any]:
         """The model without its compiled array kernels (a cache, rebuilt on first use), so
         that a model can be pickled, e.g. to draw a run's figures in another process."""
         state = self.__dict__.copy()
         state["_arrays"] = None
+        state["_arrays_y"] = None
         return state
 
     # ------------------------------------------------------------------ parameters, coefficients
@@ -342,6 +354,53 @@ class Model(ABC):
                 {key: constants[key] for key in keys},
             )
         return self._arrays
+
+    @property
+    def n_dims(self) -> int:
+        """Space dimensions of the model's equations: 2 if it has a y flux, else 1."""
+        return 1 if type(self).flux_y_point is None else 2
+
+    def _compiled_arrays_y(self) -> Any:
+        """The loops of :meth:`_compiled_arrays` with the y-direction functions bound in place
+        of the x ones (the same template: ``flux_cells`` then evaluates ``g``)."""
+        if self.n_dims != 2:
+            raise TypeError(f"model '{self.name}' is one-dimensional: it has no y flux")
+        if self._arrays_y is None:
+            model_class = type(self)
+            bindings = {
+                **self.kernel_bindings(),
+                "_flux_point": model_class.flux_y_point,
+                "_jacobian_point": model_class.jacobian_y_point,
+                "_max_speed_point": model_class.max_speed_y_point,
+            }
+            constants = self.kernel_constants()
+            self._arrays_y = generate(
+                Path(__file__).with_name("array_kernels_template.py"),
+                bindings,  # type: ignore[arg-type]
+                {key: constants[key] for key in ("NV", "NAUX", "HAS_SOURCE")},
+            )
+        return self._arrays_y
+
+    def flux_y(self, q: Array, aux: Array | None = None) -> Array:
+        """The y flux ``g(q)`` of every column of ``q`` (a 2D model), shape ``(n_vars, n)``."""
+        q, aux = self._prepare(q, aux)
+        out = np.empty_like(q)
+        self._compiled_arrays_y().flux_cells(q, aux, self.param_vector(), out)
+        return out
+
+    def flux_jacobian_y(self, q: Array, aux: Array | None = None) -> Array:
+        """The y flux Jacobian ``B = dg/dq`` of every column, shape ``(n_vars, n_vars, n)``."""
+        q, aux = self._prepare(q, aux)
+        out = np.empty((self.n_vars, self.n_vars, q.shape[1]), dtype=np.float64)
+        self._compiled_arrays_y().jacobian_cells(q, aux, self.param_vector(), out)
+        return out
+
+    def max_wave_speed_y(self, q: Array, aux: Array | None = None) -> Array:
+        """Largest ``|eigenvalue|`` of ``B`` in every column, shape ``(n,)``."""
+        q, aux = self._prepare(q, aux)
+        out = np.empty(q.shape[1], dtype=np.float64)
+        self._compiled_arrays_y().max_speed_cells(q, aux, self.param_vector(), out)
+        return out
 
     def _prepare(self, q: Array, aux: Array | None) -> tuple[Array, Array]:
         q = np.ascontiguousarray(q, dtype=np.float64)

@@ -115,6 +115,11 @@ class Scheme(ABC):
         right: BoundarySpec,
         cfl: float,
     ) -> None:
+        if model.n_dims != 1:
+            raise ConfigError(
+                f"model '{model.name}' is {model.n_dims}-dimensional: the 1D scheme "
+                f"'{type(self).name}' cannot run it"
+            )
         if left.condition.periodic != right.condition.periodic:
             raise ConfigError(
                 "boundary: 'periodic' must be used on both sides (left and right), got "
