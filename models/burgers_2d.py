@@ -7,36 +7,19 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 from numpy.typing import NDArray
 
 from conslaw.errors import ConfigError
 from conslaw.model import Model
+from conslaw_models.burgers import flux_point, jacobian_point, max_speed_point
 
 Array = NDArray[np.float64]
 
 
-@njit(cache=True)
-def flux_point(q, aux, params, out):
-    """``f(u) = u^2 / 2``."""
-    out[0] = 0.5 * q[0] * q[0]
-
-
-@njit(cache=True)
-def jacobian_point(q, aux, params, out):
-    """``f'(u) = u``."""
-    out[0, 0] = q[0]
-
-
-@njit(cache=True)
-def max_speed_point(q, aux, params):
-    """``|f'(u)| = |u|``."""
-    return abs(q[0])
-
-
 class Burgers2D(Model):
-    """``u_t + (u^2/2)_x + (u^2/2)_y = 0``: the same flux in both directions, so every
-    characteristic runs along ``(1, 1)`` with speed ``u`` in each coordinate."""
+    """``u_t + (u^2/2)_x + (u^2/2)_y = 0``: the same flux in both directions (the 1D Burgers
+    pointwise functions, bound for x and for y), so every characteristic runs along ``(1, 1)``
+    with speed ``u`` in each coordinate."""
 
     name = "burgers-2d"
     description = "inviscid Burgers equation in 2D, u_t + (u^2/2)_x + (u^2/2)_y = 0"
