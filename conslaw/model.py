@@ -381,26 +381,13 @@ class Model(ABC):
             )
         return self._arrays_y
 
-    def flux_y(self, q: Array, aux: Array | None = None) -> Array:
-        """The y flux ``g(q)`` of every column of ``q`` (a 2D model), shape ``(n_vars, n)``."""
-        q, aux = self._prepare(q, aux)
-        out = np.empty_like(q)
-        self._compiled_arrays_y().flux_cells(q, aux, self.param_vector(), out)
-        return out
-
-    def flux_jacobian_y(self, q: Array, aux: Array | None = None) -> Array:
-        """The y flux Jacobian ``B = dg/dq`` of every column, shape ``(n_vars, n_vars, n)``."""
-        q, aux = self._prepare(q, aux)
-        out = np.empty((self.n_vars, self.n_vars, q.shape[1]), dtype=np.float64)
-        self._compiled_arrays_y().jacobian_cells(q, aux, self.param_vector(), out)
-        return out
-
-    def max_wave_speed_y(self, q: Array, aux: Array | None = None) -> Array:
-        """Largest ``|eigenvalue|`` of ``B`` in every column, shape ``(n,)``."""
-        q, aux = self._prepare(q, aux)
-        out = np.empty(q.shape[1], dtype=np.float64)
-        self._compiled_arrays_y().max_speed_cells(q, aux, self.param_vector(), out)
-        return out
+    def _arrays_along(self, direction: str) -> Any:
+        """The compiled loops of the x (:meth:`_compiled_arrays`) or y direction."""
+        if direction == "x":
+            return self._compiled_arrays()
+        if direction == "y":
+            return self._compiled_arrays_y()
+        raise ValueError(f"direction must be 'x' or 'y', got {direction!r}")
 
     def _prepare(self, q: Array, aux: Array | None) -> tuple[Array, Array]:
         q = np.ascontiguousarray(q, dtype=np.float64)
@@ -412,25 +399,28 @@ class Model(ABC):
             aux = np.zeros((self.n_aux, q.shape[1]), dtype=np.float64)
         return q, np.ascontiguousarray(aux, dtype=np.float64)
 
-    def flux(self, q: Array, aux: Array | None = None) -> Array:
-        """Physical flux ``f(q)`` of every column of ``q``, shape ``(n_vars, n)``."""
+    def flux(self, q: Array, aux: Array | None = None, direction: str = "x") -> Array:
+        """Physical flux of every column of ``q``, shape ``(n_vars, n)``: ``f(q)``, or the y
+        flux ``g(q)`` of a 2D model with ``direction="y"``."""
         q, aux = self._prepare(q, aux)
         out = np.empty_like(q)
-        self._compiled_arrays().flux_cells(q, aux, self.param_vector(), out)
+        self._arrays_along(direction).flux_cells(q, aux, self.param_vector(), out)
         return out
 
-    def flux_jacobian(self, q: Array, aux: Array | None = None) -> Array:
-        """Flux Jacobian ``A = df/dq`` of every column, shape ``(n_vars, n_vars, n)``."""
+    def flux_jacobian(self, q: Array, aux: Array | None = None, direction: str = "x") -> Array:
+        """Flux Jacobian ``A = df/dq`` (or ``B = dg/dq``, ``direction="y"``) of every column,
+        shape ``(n_vars, n_vars, n)``."""
         q, aux = self._prepare(q, aux)
         out = np.empty((self.n_vars, self.n_vars, q.shape[1]), dtype=np.float64)
-        self._compiled_arrays().jacobian_cells(q, aux, self.param_vector(), out)
+        self._arrays_along(direction).jacobian_cells(q, aux, self.param_vector(), out)
         return out
 
-    def max_wave_speed(self, q: Array, aux: Array | None = None) -> Array:
-        """Largest absolute eigenvalue of the flux Jacobian in every column, shape ``(n,)``."""
+    def max_wave_speed(self, q: Array, aux: Array | None = None, direction: str = "x") -> Array:
+        """Largest absolute eigenvalue of the flux Jacobian of ``direction`` in every column,
+        shape ``(n,)``."""
         q, aux = self._prepare(q, aux)
         out = np.empty(q.shape[1], dtype=np.float64)
-        self._compiled_arrays().max_speed_cells(q, aux, self.param_vector(), out)
+        self._arrays_along(direction).max_speed_cells(q, aux, self.param_vector(), out)
         return out
 
     def source(self, q: Array, aux: Array | None = None) -> Array:

@@ -168,7 +168,7 @@ def test_what_the_reference_refuses() -> None:
     with pytest.raises(ConfigError, match="cfl"):
         JiangTadmorReference(Burgers2D(), mc, grid, PERIODIC, cfl=0.5)
     with pytest.raises(TypeError, match="one-dimensional"):
-        Burgers().flux_y(np.ones((1, 3)))
+        Burgers().flux(np.ones((1, 3)), direction="y")
     jt = JiangTadmorReference(Burgers2D(), mc, grid, PERIODIC)
     q = np.ones((1, 8, 8))
     with pytest.raises(SchemeBreakdownError, match="Courant"):
