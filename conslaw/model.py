@@ -163,6 +163,16 @@ class Model(ABC):
     reflect_signs_y: ClassVar[tuple[float, ...] | None] = None
     jacobian_y_point: ClassVar[Callable[..., None] | None] = None
     max_speed_y_point: ClassVar[Callable[..., float] | None] = None
+    #: A 2D model's ``balanced_source_point`` between two centres along y (spacing ``dy``).
+    balanced_source_y_point: ClassVar[Callable[..., None] | None] = None
+    #: A 2D model's row of the y momentum ``depth * y velocity`` (with ``depth_index``).
+    momentum_y_index: ClassVar[int | None] = None
+    #: A 2D model's ``(bed slope in y, bed twist)`` rows of ``aux`` besides :attr:`surface_aux`:
+    #: the depth is then reconstructed as the surface minus the bed in both directions
+    #: (docs/design.md, "Toward two dimensions").
+    surface_aux_y: ClassVar[tuple[int, int] | None] = None
+    #: Sign of every coefficient row in the mirror image across a y wall; None: all +1.
+    aux_reflect_signs_y: ClassVar[tuple[float, ...] | None] = None
     #: Initial-condition kinds this model adds: kind -> (required keys, defaults, description);
     #: built by :meth:`initial_cell_averages`.
     initial_kinds: ClassVar[dict[str, tuple[tuple[str, ...], dict[str, Any], str]]] = {}
@@ -372,12 +382,14 @@ class Model(ABC):
                 "_flux_point": model_class.flux_y_point,
                 "_jacobian_point": model_class.jacobian_y_point,
                 "_max_speed_point": model_class.max_speed_y_point,
+                "_balanced_source_point": model_class.balanced_source_y_point or pointwise.unbound,
             }
             constants = self.kernel_constants()
+            keys = ("NV", "NAUX", "HAS_SOURCE", "HAS_BALANCED_SOURCE")
             self._arrays_y = generate(
                 Path(__file__).with_name("array_kernels_template.py"),
                 bindings,  # type: ignore[arg-type]
-                {key: constants[key] for key in ("NV", "NAUX", "HAS_SOURCE")},
+                {key: constants[key] for key in keys},
             )
         return self._arrays_y
 
@@ -431,11 +443,15 @@ class Model(ABC):
             self._compiled_arrays().source_cells(q, aux, self.param_vector(), out)
         return out
 
-    def balanced_source(self, predicted: Array, aux: Array, dx: float) -> Array:
-        """``balanced_source_point`` between neighbouring columns, shape ``(n_vars, n-1)``."""
+    def balanced_source(
+        self, predicted: Array, aux: Array, dx: float, direction: str = "x"
+    ) -> Array:
+        """``balanced_source_point`` between neighbouring columns, shape ``(n_vars, n-1)``
+        (``balanced_source_y_point`` with ``direction="y"``, ``dx`` then the spacing in y)."""
         q, aux = self._prepare(predicted, aux)
         out = np.zeros((self.n_vars, q.shape[1] - 1))
-        self._compiled_arrays().balanced_source_cells(q, aux, dx, self.param_vector(), out)
+        arrays = self._arrays_along(direction)
+        arrays.balanced_source_cells(q, aux, dx, self.param_vector(), out)
         return out
 
     def correct(self, q: Array, aux: Array, dt: float) -> Array:

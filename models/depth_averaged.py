@@ -1,8 +1,9 @@
 """Pointwise pieces shared by the depth-averaged models (shallow water, Savage–Hutter).
 
-Both store ``q = (h, m = h u)`` and pack their dry tolerance at :data:`DRY` of the parameter
-vector. A cell with ``h < dry_tolerance`` is dry: its velocity is 0 in every formula (no division
-by zero anywhere) and it holds no momentum.
+They store ``q = (h, m = h u)`` (in 2D ``(h, h u, h v)``: every row after the depth a momentum)
+and pack their dry tolerance at :data:`DRY` of the parameter vector. A cell with
+``h < dry_tolerance`` is dry: its velocity is 0 in every formula (no division by zero anywhere)
+and it holds no momentum.
 """
 
 from __future__ import annotations
@@ -28,19 +29,27 @@ def velocity(h, m, dry_tolerance):
 
 @njit(cache=True)
 def correct_point(q, aux, params, dt):
-    """A dry cell holds no momentum."""
+    """A dry cell holds no momentum (every row after the depth)."""
     if q[0] < params[DRY]:
-        q[1] = 0.0
+        for v in range(1, q.shape[0]):
+            q[v] = 0.0
 
 
 @njit(cache=True)
 def admissible_point(q, aux, params):
-    """Finite, ``h >= 0``, and no momentum in a dry cell."""
-    if not (np.isfinite(q[0]) and np.isfinite(q[1])):
-        return False
+    """Finite, ``h >= 0``, and no momentum (any row after the depth) in a dry cell."""
+    for v in range(q.shape[0]):
+        if not np.isfinite(q[v]):
+            return False
     if q[0] < 0.0:
         return False
-    return q[0] >= params[DRY] or q[1] == 0.0
+    if q[0] >= params[DRY]:
+        return True
+    # A plain loop: numba compiles it, not a generator inside all().
+    for v in range(1, q.shape[0]):  # noqa: SIM110
+        if q[v] != 0.0:
+            return False
+    return True
 
 
 class DepthAveragedModel(Model):

@@ -82,26 +82,46 @@ def source_point(q, aux, params, out):
 
 
 @njit(cache=True)
-def balanced_source_point(q_left, q_right, aux_left, aux_right, dx, params, out):
-    """Source averaged over the staggered cell, ``(0, -g (h_L + h_R)/2 D/dx)``.
+def balanced_step(h_left, h_right, bed_left, bed_right, spacing, g):
+    """``-g (h_L + h_R)/2 D / spacing``: the bed source averaged over the part of a staggered cell
+    between two centres, ``D = b_R - b_L`` clipped to ``[-h_R, h_L]``.
 
-    ``D = b_R - b_L`` clipped to ``[-h_R, h_L]``: a bed step higher than the water in front of it
-    pushes on that water only, as in the hydrostatic reconstruction of Audusse, Bouchut,
-    Bristeau, Klein & Perthame (2004, SIAM J. Sci. Comput. 25). Still water against a dry bed
-    higher than its surface (``h_R = 0``, ``D = h_L``) then feels ``-g h_L^2/2``, which cancels the
-    pressure flux difference ``g (h_R^2 - h_L^2)/2`` exactly; with water on both sides the clip is
-    inactive at rest (``|b_R - b_L| < h`` on the deeper side), so the centred second-order form of
-    Russo (2005) is kept wherever the flow is wet (docs/design.md, "Well-balanced bed").
+    A bed step higher than the water in front of it pushes on that water only, as in the
+    hydrostatic reconstruction of Audusse, Bouchut, Bristeau, Klein & Perthame (2004, SIAM J.
+    Sci. Comput. 25). Still water against a dry bed higher than its surface (``h_R = 0``,
+    ``D = h_L``) then feels ``-g h_L^2/2``, which cancels the pressure flux difference
+    ``g (h_R^2 - h_L^2)/2`` exactly; with water on both sides the clip is inactive at rest
+    (``|b_R - b_L| < h`` on the deeper side), so the centred second-order form of Russo (2005) is
+    kept wherever the flow is wet (docs/design.md, "Well-balanced bed").
     """
-    h_left = q_left[0]
-    h_right = q_right[0]
-    step = aux_right[BED] - aux_left[BED]
+    step = bed_right - bed_left
     if step > h_left:
         step = h_left
     elif step < -h_right:
         step = -h_right
+    return -g * 0.5 * (h_left + h_right) * step / spacing
+
+
+@njit(cache=True)
+def balanced_source_point(q_left, q_right, aux_left, aux_right, dx, params, out):
+    """Source averaged over the staggered cell, ``(0, balanced_step)``."""
     out[0] = 0.0
-    out[1] = -params[G] * 0.5 * (h_left + h_right) * step / dx
+    out[1] = balanced_step(q_left[0], q_right[0], aux_left[BED], aux_right[BED], dx, params[G])
+
+
+def check_water_parameters(params: Any, numbers: tuple[str, ...]) -> None:
+    """The checks every shallow-water model's parameters share: the fields ``numbers`` finite,
+    ``g > 0``, ``0 <= dry_tolerance < 1e-3`` and ``bump_width > 0``."""
+    for name in numbers:
+        finite_number(getattr(params, name), f"parameters.{name}")
+    if not params.g > 0:
+        raise ConfigError(f"parameters.g: gravity must be > 0, got {params.g}")
+    if not 0 <= params.dry_tolerance < 1e-3:
+        raise ConfigError(
+            f"parameters.dry_tolerance: must be in [0, 1e-3), got {params.dry_tolerance}"
+        )
+    if not params.bump_width > 0:
+        raise ConfigError(f"parameters.bump_width: must be > 0, got {params.bump_width}")
 
 
 @dataclass(frozen=True)
@@ -121,19 +141,44 @@ class ShallowWaterParameters:
     bump_width: float = parameter(1.0, "width of the bed bump, > 0")
 
     def __post_init__(self) -> None:
-        for name in ("g", "dry_tolerance", "bump_height", "bump_centre", "bump_width"):
-            finite_number(getattr(self, name), f"parameters.{name}")
-        if not self.g > 0:
-            raise ConfigError(f"parameters.g: gravity must be > 0, got {self.g}")
-        if not 0 <= self.dry_tolerance < 1e-3:
-            raise ConfigError(
-                f"parameters.dry_tolerance: must be in [0, 1e-3), got {self.dry_tolerance}"
-            )
-        if not self.bump_width > 0:
-            raise ConfigError(f"parameters.bump_width: must be > 0, got {self.bump_width}")
+        check_water_parameters(
+            self, ("g", "dry_tolerance", "bump_height", "bump_centre", "bump_width")
+        )
 
 
-class ShallowWater(DepthAveragedModel):
+class WaterOverBed(DepthAveragedModel):
+    """A shallow-water model over a bed that may be flat (:attr:`has_bed`): a flat bed costs
+    nothing, the bed source and the surface reconstruction are compiled only for one that is
+    not."""
+
+    @property
+    def has_bed(self) -> bool:
+        """Whether the bed is not flat."""
+        raise NotImplementedError
+
+    def kernel_variant(self) -> str:
+        """A flat bed or not (the bed source and surface reconstruction)."""
+        return "with a bed" if self.has_bed else "flat bed"
+
+    def uniform_aux(self) -> bool:
+        """A flat bed has the same (zero) coefficients everywhere."""
+        return not self.has_bed
+
+    def capabilities(self) -> dict[str, bool]:
+        """Without a bed, no source, no surface reconstruction (nothing compiled for them)."""
+        return {
+            "source": self.has_bed,
+            "balanced_source": self.has_bed,
+            "surface": self.has_bed,
+            "correction": True,
+            "resistance": False,
+            "dynamic_coefficients": False,
+            "interface_coefficients": False,
+            "rest_coefficients": False,
+        }
+
+
+class ShallowWater(WaterOverBed):
     """Shallow-water equations, ``q = (h, hu)``, with gravity ``g`` and an optional bed ``b(x)``.
 
     Exact solutions (flat bed): the Stoker (wet) and Ritter (dry) dam breaks for a single jump at
@@ -166,27 +211,6 @@ class ShallowWater(DepthAveragedModel):
     def has_bed(self) -> bool:
         """Whether the bed is not flat."""
         return self.params.bump_height != 0.0
-
-    def kernel_variant(self) -> str:
-        """A flat bed or one with a bump (the bed source and surface reconstruction)."""
-        return "with a bed" if self.has_bed else "flat bed"
-
-    def uniform_aux(self) -> bool:
-        """A flat bed has the same (zero) coefficients everywhere."""
-        return not self.has_bed
-
-    def capabilities(self) -> dict[str, bool]:
-        """Without a bed, no source, no surface reconstruction (nothing compiled for them)."""
-        return {
-            "source": self.has_bed,
-            "balanced_source": self.has_bed,
-            "surface": self.has_bed,
-            "correction": True,
-            "resistance": False,
-            "dynamic_coefficients": False,
-            "interface_coefficients": False,
-            "rest_coefficients": False,
-        }
 
     def bed(self, x: Array) -> Array:
         """Bed elevation ``b(x) = bump_height exp(-((x - bump_centre) / bump_width)^2)``."""

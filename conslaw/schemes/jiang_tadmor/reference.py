@@ -24,7 +24,24 @@ The reference is written for testing the compiled 2D kernel, not for speed. Boun
 periodic (on both sides of a direction), outflow (zero gradient) or wall (the mirror image, with
 the signs ``Model.reflect_signs`` across an x wall and ``Model.reflect_signs_y`` across a y wall,
 as the 1D ``wall`` condition: a primary family mirrors about the cell face, a staggered one about
-the centre of its end cell, which straddles the wall). Sources come with the kernel.
+the centre of its end cell, which straddles the wall).
+
+A depth-averaged model (``depth_index``, ``momentum_index``, ``momentum_y_index``) gets the 1D
+depth rules in both directions (docs/design.md, "Depth-averaged models: dry states and
+positivity"): the depth reconstructed through the surface ``depth + bed`` with the bed's quarter
+averages (:mod:`conslaw.schemes.jiang_tadmor.bed`, the twist term added to the new depth), the
+depth slopes limited together, ``|h'| + |h*| + |twist| <= 2 h``, so that every quarter keeps at
+least half the depth, each momentum slope bounded by the velocities of the cell and its two
+neighbours along that direction, the source ``s(w)`` in the predictor, the well-balanced source
+of each pair of centres along x (``balanced_source_point``) and along y
+(``balanced_source_y_point``) averaged over the two pairs of the new cell::
+
+    + dt/2 (S_x(p_a, p_b) + S_x(p_c, p_d)) + dt/2 (S_y(p_a, p_c) + S_y(p_b, p_d))
+
+then the model's correction, and the velocity bound of thin tails over the 4 x 4 cells a new
+cell reads. :meth:`JiangTadmorReference.advance` redoes a step pair with half the time step while
+a depth would become negative (no clipping). Data that do not depend on y take the 1D steps of
+``NessyahuTadmor.reference_step`` bit for bit here too.
 """
 
 from __future__ import annotations
@@ -39,6 +56,17 @@ from conslaw.grid2d import Grid2D
 from conslaw.model import Model
 from conslaw.reconstruct import Reconstructor
 from conslaw.reconstruct.base import STENCIL_HALF_WIDTH
+from conslaw.schemes.depth_rules import velocity_bounded_slope
+from conslaw.schemes.jiang_tadmor.bed import (
+    QUARTER_SIGNS,
+    family_bed,
+    flooded_level,
+    quarter_averages,
+    quarters_of_rows,
+    rows_of_quarters,
+    still_water_depth,
+)
+from conslaw.schemes.nessyahu_tadmor.constants import DEPTH_SLOPE_LIMIT, ROUND_OFF, THIN_TAIL
 
 Array = NDArray[np.float64]
 
@@ -48,6 +76,37 @@ GHOSTS = STENCIL_HALF_WIDTH + 1
 CFL_LIMIT = 0.5
 SIDES = ("left", "right", "bottom", "top")
 KINDS = ("periodic", "outflow", "wall")
+#: A cell is still (its bed read as still water over flat quarters, its depth's quarters free to
+#: be empty) while every velocity is below this fraction of its wave speed.
+STILL = 1e-9
+#: Smallest time step, in units of ``dx``, before a run whose depths stay negative stops.
+DT_FLOOR = 1e-14
+
+
+def _columns(array: Array) -> Array:
+    """``array`` with every axis after the first flattened into one (rows of cells, in C
+    order; an array of no rows too)."""
+    return array.reshape(array.shape[0], int(np.prod(array.shape[1:])))
+
+
+def _window_extreme(values: Array, take_max: bool, width: int = 4) -> Array:
+    """The largest (or smallest) value over every ``width`` x ``width`` block of ``values``
+    (last two axes)."""
+    blocks = np.lib.stride_tricks.sliding_window_view(values, (width, width), axis=(-2, -1))
+    return blocks.max(axis=(-2, -1)) if take_max else blocks.min(axis=(-2, -1))
+
+
+def _neighbour_range(u: Array, rows: slice, columns: slice, axis: int) -> tuple[Array, Array]:
+    """Smallest and largest ``u`` of each cell ``u[rows, columns]`` and its two neighbours along
+    ``axis`` (0: y, 1: x)."""
+    shifted = []
+    for shift in (-1, 0, 1):
+        r = slice(rows.start + shift, rows.stop + shift) if axis == 0 else rows
+        c = slice(columns.start + shift, columns.stop + shift) if axis == 1 else columns
+        shifted.append(u[r, c])
+    low = np.minimum(np.minimum(shifted[0], shifted[1]), shifted[2])
+    high = np.maximum(np.maximum(shifted[0], shifted[1]), shifted[2])
+    return low, high
 
 
 class JiangTadmorReference:
@@ -56,12 +115,14 @@ class JiangTadmorReference:
     Parameters
     ----------
     model : Model
-        With x and y fluxes, Jacobians and wave speeds, no source (for now).
+        With x and y fluxes, Jacobians and wave speeds; its coefficients, if any, a bed
+        (``surface_aux`` and ``surface_aux_y``, the rows of
+        :func:`~conslaw.schemes.jiang_tadmor.bed.bed_rows`) from ``quarter_bed``.
     reconstructor : Reconstructor
         Limits the slopes in x and in y separately (any of the registry's).
     grid : Grid2D
     boundaries : mapping
-        ``left``, ``right``, ``bottom``, ``top`` -> ``"periodic"`` or ``"outflow"``.
+        ``left``, ``right``, ``bottom``, ``top`` -> ``"periodic"``, ``"outflow"`` or ``"wall"``.
     cfl : float
         Courant number per direction, in (0, 1/2).
     """
@@ -76,8 +137,15 @@ class JiangTadmorReference:
     ) -> None:
         if model.n_dims != 2:
             raise ConfigError(f"jiang-tadmor needs a 2D model; '{model.name}' is 1D")
-        if model.capabilities()["source"] or model.n_aux:
-            raise ConfigError(f"jiang-tadmor (reference): '{model.name}' has a source or aux")
+        uses = model.capabilities()
+        unsupported = [
+            key
+            for key in ("resistance", "dynamic_coefficients", "interface_coefficients")
+            if uses[key]
+        ]
+        if unsupported or (model.n_aux and model.surface_aux_y is None):
+            what = ", ".join(unsupported) or "coefficients other than a bed"
+            raise ConfigError(f"jiang-tadmor (reference): '{model.name}' needs {what}")
         if set(boundaries) != set(SIDES):
             raise ConfigError(f"boundaries: need {', '.join(SIDES)}, got {sorted(boundaries)}")
         for side, kind in boundaries.items():
@@ -93,22 +161,71 @@ class JiangTadmorReference:
         self.grid = grid
         self.boundaries = dict(boundaries)
         self.cfl = float(cfl)
+        self.uses = uses
         self.periodic_x = boundaries["left"] == "periodic"
         self.periodic_y = boundaries["bottom"] == "periodic"
+        self._aux = {staggered: self._family_aux(staggered) for staggered in (False, True)}
 
     def family_shape(self, staggered: bool) -> tuple[int, int]:
         """``(rows, columns)`` of the primary or the staggered family."""
         return self.grid.shape_at(0.5 if staggered else 0.0, self.periodic_x, self.periodic_y)
 
-    def padded(self, q: Array, staggered: bool) -> Array:
+    def _family_aux(self, staggered: bool) -> Array:
+        """The coefficients of one family, padded as the state is (with the coefficients'
+        own mirror signs): ``(n_aux, rows + 2 GHOSTS, columns + 2 GHOSTS)``."""
+        model = self.model
+        rows, columns = self.family_shape(staggered)
+        if model.n_aux == 0:
+            return np.zeros((0, rows + 2 * GHOSTS, columns + 2 * GHOSTS))
+        quarters = quarter_averages(model, self.grid, self.boundaries)
+        periodic = (self.periodic_x, self.periodic_y)
+        aux = family_bed(quarters, self.grid, staggered, periodic)
+        ones = (1.0,) * model.n_aux
+        return self.padded(
+            aux,
+            staggered,
+            model.aux_reflect_signs or ones,
+            model.aux_reflect_signs_y or model.aux_reflect_signs or ones,
+        )
+
+    def still_water(self, surface: float) -> Array:
+        """Primary-family values of still water at ``surface`` over the model's bed
+        (:func:`~conslaw.schemes.jiang_tadmor.bed.still_water_depth`), all momenta 0."""
+        model = self.model
+        assert model.depth_index is not None
+        q = np.zeros((model.n_vars, *self.family_shape(False)))
+        if model.n_aux == 0:
+            q[model.depth_index] = max(surface, 0.0)
+            return q
+        assert model.surface_aux is not None and model.surface_aux_y is not None
+        rows = [*model.surface_aux, *model.surface_aux_y]
+        quarters = quarters_of_rows(self.family_aux(False)[rows], self.grid.dx, self.grid.dy)
+        q[model.depth_index] = still_water_depth(quarters, surface)
+        return q
+
+    def family_aux(self, staggered: bool) -> Array:
+        """The coefficients of the cells of one family (not padded)."""
+        rows, columns = self.family_shape(staggered)
+        return self._aux[staggered][:, GHOSTS : GHOSTS + rows, GHOSTS : GHOSTS + columns]
+
+    def padded(
+        self,
+        q: Array,
+        staggered: bool,
+        signs_x: tuple[float, ...] | None = None,
+        signs_y: tuple[float, ...] | None = None,
+    ) -> Array:
         """``q`` (one family, ``(n_vars, rows, columns)``) with GHOSTS ghost cells on every
-        side: a periodic copy, the edge cell repeated (outflow), or the mirror image (wall)."""
-        signs_x = np.asarray(self.model.reflect_signs, dtype=np.float64)
-        signs_y = np.asarray(
-            self.model.reflect_signs_y or self.model.reflect_signs, dtype=np.float64
+        side: a periodic copy, the edge cell repeated (outflow), or the mirror image (wall),
+        with ``signs_x`` across x walls and ``signs_y`` across y walls (default: the model's
+        ``reflect_signs`` and ``reflect_signs_y``)."""
+        model = self.model
+        across_x = np.asarray(signs_x or model.reflect_signs, dtype=np.float64)
+        across_y = np.asarray(
+            signs_y or model.reflect_signs_y or model.reflect_signs, dtype=np.float64
         )
         w = q
-        directions = ((2, "left", "right", signs_x), (1, "bottom", "top", signs_y))
+        directions = ((2, "left", "right", across_x), (1, "bottom", "top", across_y))
         for axis, low, high, signs in directions:
             width = [(0, 0)] * 3
             if self.boundaries[low] == "periodic":  # both ends at once: each copies the other
@@ -129,25 +246,247 @@ class JiangTadmorReference:
 
     def courant_numbers(self, q: Array, dt: float) -> tuple[float, float]:
         """``dt max|a_x| / dx`` and ``dt max|a_y| / dy`` of the cells of ``q``."""
+        speed_x, speed_y = self.max_speeds(q)
+        return dt * speed_x / self.grid.dx, dt * speed_y / self.grid.dy
+
+    def max_speeds(self, q: Array) -> tuple[float, float]:
+        """The largest wave speeds in x and in y of the cells of ``q``."""
         flat = q.reshape(q.shape[0], -1)
         speed_x = float(np.max(self.model.max_wave_speed(flat)))
         speed_y = float(np.max(self.model.max_wave_speed(flat, direction="y")))
-        return dt * speed_x / self.grid.dx, dt * speed_y / self.grid.dy
+        return speed_x, speed_y
 
     def stable_dt(self, q: Array) -> float:
-        """The largest ``dt`` with both Courant numbers at most ``cfl`` (inf at rest)."""
-        unit_x, unit_y = self.courant_numbers(q, 1.0)
-        largest = max(unit_x, unit_y)
-        return np.inf if largest == 0.0 else self.cfl / largest
+        """The largest ``dt`` with both Courant numbers at most ``cfl``, ``min(cfl dx / max|a_x|,
+        cfl dy / max|a_y|)`` (inf at rest; the 1D kernel's ``cfl dx / a_max`` in a direction
+        along which nothing moves)."""
+        speed_x, speed_y = self.max_speeds(q)
+        dt_x = self.cfl * self.grid.dx / speed_x if speed_x > 0.0 else np.inf
+        dt_y = self.cfl * self.grid.dy / speed_y if speed_y > 0.0 else np.inf
+        return min(dt_x, dt_y)
 
-    def _slopes(self, w: Array, rows: slice, columns: slice) -> tuple[Array, Array]:
-        """Limited undivided slopes in x and in y of the padded cells ``w[:, rows, columns]``."""
+    def _still_cells(self, w: Array) -> Array:
+        """Whether each padded cell is still: every velocity below ``STILL`` times the cell's
+        wave speed along it (round-off of a lake at rest is far below; any flow far above)."""
+        model = self.model
+        d = model.depth_index
+        assert d is not None
+        flat = _columns(w)
+        h = w[d]
+        wet = (h >= model.dry_depth()) & (h > 0.0)
+        safe = np.where(wet, h, 1.0)
+        still = np.ones(h.shape, dtype=bool)
+        for m, direction in ((model.momentum_index, "x"), (model.momentum_y_index, "y")):
+            if m is None:
+                continue
+            speed = model.max_wave_speed(flat, direction=direction).reshape(h.shape)
+            still &= np.abs(np.where(wet, w[m] / safe, 0.0)) <= STILL * speed
+        return still
+
+    def _effective_bed(self, w: Array, aux: Array, still: Array) -> Array:
+        """``aux`` with the bed of every still, partly flooded cell (its still-water level below
+        the top of a quarter) replaced by the bed under its water, ``min(quarter, level)``
+        (:func:`~conslaw.schemes.jiang_tadmor.bed.flooded_level`): the cell is then a fully wet
+        cell over that bed, whose depth in the dry quarters is 0 when the surface is flat. A
+        moving cell keeps its bed: the flat quarters under a moving shoreline slow its run-down
+        (Thacker's planar oscillation: 4x the L1 error of the depth at N = 50)."""
+        model = self.model
+        assert model.surface_aux is not None and model.surface_aux_y is not None
+        assert model.depth_index is not None
+        rows = (*model.surface_aux, *model.surface_aux_y)
+        dx, dy = self.grid.dx, self.grid.dy
+        h = w[model.depth_index]
+        quarters = quarters_of_rows(aux[list(rows)], dx, dy)
+        partial = still & (h > 0.0) & (h + aux[rows[0]] < np.max(quarters, axis=0))
+        if not np.any(partial):
+            return aux
+        under_water = rows_of_quarters(np.minimum(quarters, flooded_level(h, quarters)), dx, dy)
+        effective = aux.copy()
+        for k, row in enumerate(rows):
+            effective[row] = np.where(partial, under_water[k], aux[row])
+        return effective
+
+    def _surface_data(self, w: Array, aux: Array) -> Array:
+        """``w`` with the depth replaced by the surface ``depth + bed``; a dry cell takes the
+        highest surface of the wet cells within two cells (5 x 5) where its bed is higher
+        (dry land sets no surface gradient for the water beside it: still water stays still
+        with every reconstructor, WENO's wider stencil included)."""
+        model = self.model
+        assert model.surface_aux is not None and model.depth_index is not None
+        d = model.depth_index
+        data = w.copy()
+        surface = w[d] + aux[model.surface_aux[0]]
+        dry = (w[d] <= 0.0) | (w[d] < model.dry_depth())
+        wet_surface = np.pad(
+            np.where(dry, -np.inf, surface), 2, mode="constant", constant_values=-np.inf
+        )
+        nearby = _window_extreme(wet_surface, True, width=5)
+        dry_land = dry & (nearby > -np.inf)
+        data[d] = np.where(dry_land, np.minimum(surface, nearby), surface)
+        return data
+
+    def _raw_slopes(
+        self, w: Array, aux: Array, rows: slice, columns: slice
+    ) -> tuple[Array, Array, Array | None]:
+        """Slopes in x and in y of the padded cells ``w[:, rows, columns]`` as the reconstructor
+        gives them, the depth's from the surface less the bed's (with its twist, None without a
+        bed)."""
+        model = self.model
         half = STENCIL_HALF_WIDTH
-        wide_x = w[:, rows, columns.start - half : columns.stop + half]
+        surface = self.uses["surface"] and model.surface_aux is not None
+        data = self._surface_data(w, aux) if surface else w
+        wide_x = data[:, rows, columns.start - half : columns.stop + half]
         slopes_x = self.reconstructor.slopes(wide_x)
-        wide_y = w[:, rows.start - half : rows.stop + half, columns]
+        wide_y = data[:, rows.start - half : rows.stop + half, columns]
         slopes_y = self.reconstructor.slopes(wide_y.swapaxes(1, 2)).swapaxes(1, 2)
-        return slopes_x, slopes_y
+        if not surface:
+            return slopes_x, slopes_y, None
+        depth = model.depth_index
+        assert model.surface_aux is not None and model.surface_aux_y is not None
+        assert depth is not None
+        slopes_x[depth] -= self.grid.dx * aux[model.surface_aux[1], rows, columns]
+        slopes_y[depth] -= self.grid.dy * aux[model.surface_aux_y[0], rows, columns]
+        return slopes_x, slopes_y, -aux[model.surface_aux_y[1], rows, columns]
+
+    def _limited_slopes(
+        self,
+        w: Array,
+        rows: slice,
+        columns: slice,
+        raw: tuple[Array, Array, Array | None],
+        floors: Array | None,
+    ) -> tuple[Array, Array, Array | None]:
+        """Copies of the ``raw`` slopes with the depth rules: every quarter of the depth at least
+        its floor (``floors``, ``(4, rows, columns)`` in the order of
+        :data:`~conslaw.schemes.jiang_tadmor.bed.QUARTER_SIGNS`; None: half the depth), then
+        the momentum slopes bounded by the velocities. Returns the slopes and the depth's
+        twist."""
+        slopes_x, slopes_y, twist = raw[0].copy(), raw[1].copy(), raw[2]
+        if self.model.depth_index is None:
+            return slopes_x, slopes_y, twist
+        h = w[self.model.depth_index, rows, columns]
+        twist = self._limit_depth_slopes(h, slopes_x, slopes_y, twist, floors)
+        self._bound_momentum_slopes(w, rows, columns, slopes_x, slopes_y)
+        return slopes_x, slopes_y, twist
+
+    def _limit_depth_slopes(
+        self,
+        h: Array,
+        slopes_x: Array,
+        slopes_y: Array,
+        twist: Array | None,
+        floors: Array | None,
+    ) -> Array | None:
+        """Scale the depth's slopes and twist (in place; the twist returned) by the largest
+        factor <= 1 that keeps every quarter ``h + (sx h' + sy h* + sx sy twist)/4`` at or above
+        its floor; without floors, half the depth, where a slope alone is clipped to
+        ``DEPTH_SLOPE_LIMIT h`` as in 1D (the same limit, bit for bit). Nothing is
+        reconstructed in a dry cell."""
+        depth = self.model.depth_index
+        assert depth is not None
+        along_x, along_y = slopes_x[depth], slopes_y[depth]
+        bent = np.zeros_like(h) if twist is None else twist
+        ratio = np.ones_like(h)
+        for k, (sx, sy) in enumerate(QUARTER_SIGNS):
+            floor = 0.5 * h if floors is None else floors[k]
+            deviation = 0.25 * (sx * along_x + sy * along_y + (sx * sy) * bent)
+            short = h + deviation < floor
+            ratio = np.where(
+                short, np.minimum(ratio, (h - floor) / np.where(short, -deviation, 1.0)), ratio
+            )
+        if floors is None:
+            limit = DEPTH_SLOPE_LIMIT * h
+            only_x = (along_y == 0.0) & (bent == 0.0)
+            only_y = (along_x == 0.0) & (bent == 0.0)
+            slopes_x[depth] = np.where(only_x, np.clip(along_x, -limit, limit), along_x * ratio)
+            slopes_y[depth] = np.where(only_y, np.clip(along_y, -limit, limit), along_y * ratio)
+        else:
+            slopes_x[depth] = along_x * ratio
+            slopes_y[depth] = along_y * ratio
+        dry = h <= 0.0
+        slopes_x[:, dry] = 0.0
+        slopes_y[:, dry] = 0.0
+        if twist is None:
+            return None
+        return np.where(dry, 0.0, twist * ratio)
+
+    def _drain_floors(self, h: Array, predicted: Array, aux: Array, dt: float) -> Array:
+        """The floor of each quarter of the depth over a bed: ``min(h/2, 2 D)`` with ``D = 2 dt
+        (max(-sx F, 0)/dx + max(-sy G, 0)/dy)`` the depth that the two half edges at the cell's
+        centre take out of the new cell holding that quarter (``F``, ``G`` the depth fluxes of
+        the predicted values). Still water drains nothing, so its quarters may be empty (dry
+        land); a quarter that is drained keeps at least twice what it loses."""
+        model = self.model
+        assert model.depth_index is not None
+        flat, flat_aux = _columns(predicted), _columns(aux)
+        along_x = model.flux(flat, flat_aux)[model.depth_index].reshape(h.shape)
+        along_y = model.flux(flat, flat_aux, direction="y")[model.depth_index].reshape(h.shape)
+        floors = []
+        for sx, sy in QUARTER_SIGNS:
+            drain = (
+                2.0
+                * dt
+                * (
+                    np.maximum(-sx * along_x, 0.0) / self.grid.dx
+                    + np.maximum(-sy * along_y, 0.0) / self.grid.dy
+                )
+            )
+            floors.append(np.minimum(0.5 * h, 2.0 * drain))
+        return np.stack(floors)
+
+    def _bound_momentum_slopes(
+        self, w: Array, rows: slice, columns: slice, slopes_x: Array, slopes_y: Array
+    ) -> None:
+        """Each momentum's slope along each direction bounded so that the velocities at the two
+        quarter points along it (depths ``h +- h'/4``) stay between the smallest and largest
+        velocity of the cell and its two neighbours along it (the 1D
+        ``NessyahuTadmor._bound_momentum_slopes``)."""
+        model = self.model
+        d = model.depth_index
+        assert d is not None
+        dry = model.dry_depth()
+        depth_all = w[d]
+        wet = (depth_all >= dry) & (depth_all > 0.0)
+        safe = np.where(wet, depth_all, 1.0)
+        h = depth_all[rows, columns]
+        for m in (model.momentum_index, model.momentum_y_index):
+            if m is None:
+                continue
+            u = np.where(wet, w[m] / safe, 0.0)
+            q = w[m, rows, columns]
+            for axis, slopes in ((1, slopes_x), (0, slopes_y)):
+                u_min, u_max = _neighbour_range(u, rows, columns, axis)
+                slopes[m] = velocity_bounded_slope(h, q, slopes[d], slopes[m], u_min, u_max)
+
+    def _reconstruct(
+        self, w: Array, rows: slice, columns: slice, staggered: bool, dt: float
+    ) -> tuple[Array, Array, Array, Array | None, Array]:
+        """The coefficients, limited slopes, depth twist and predicted values of the padded
+        cells ``w[:, rows, columns]``: over a bed, still cells read as still water (their
+        quarters limited by what drains them, :meth:`_drain_floors`, from a first predictor),
+        moving ones with half the depth in every quarter."""
+        aux_all = self._aux[staggered]
+        surface = self.uses["surface"]
+        still = self._still_cells(w) if surface else None
+        if still is not None:
+            aux_all = self._effective_bed(w, aux_all, still)
+        values = w[:, rows, columns]
+        aux = aux_all[:, rows, columns]
+        raw = self._raw_slopes(w, aux_all, rows, columns)
+        floors = None
+        if still is not None:
+            assert self.model.depth_index is not None
+            h = values[self.model.depth_index]
+            still_here = still[rows, columns]
+            floors = np.where(still_here, 0.0, 0.5 * h) * np.ones((4, 1, 1))
+        slopes_x, slopes_y, twist = self._limited_slopes(w, rows, columns, raw, floors)
+        predicted = self._predictor(values, slopes_x, slopes_y, aux, dt)
+        if still is not None and np.any(still_here):
+            drained = self._drain_floors(h, predicted, aux, dt)
+            floors = np.where(still_here, drained, 0.5 * h)
+            slopes_x, slopes_y, twist = self._limited_slopes(w, rows, columns, raw, floors)
+            predicted = self._predictor(values, slopes_x, slopes_y, aux, dt)
+        return aux, slopes_x, slopes_y, twist, predicted
 
     def step(self, q: Array, staggered: bool, dt: float) -> Array:
         """One step from the family of ``q`` (``staggered`` or primary) to the other, ``dt``
@@ -167,52 +506,202 @@ class JiangTadmorReference:
         first = GHOSTS + (0 if staggered else -1)
         rows = slice(first, first + n_rows + 1)
         columns = slice(first, first + n_columns + 1)
-        slopes_x, slopes_y = self._slopes(w, rows, columns)
         values = w[:, rows, columns]
-        predicted = self._predictor(values, slopes_x, slopes_y, dt)
-        nv = values.shape[0]
-        f = self.model.flux(predicted.reshape(nv, -1)).reshape(predicted.shape)
-        g = self.model.flux(predicted.reshape(nv, -1), direction="y").reshape(predicted.shape)
+        aux, slopes_x, slopes_y, twist, predicted = self._reconstruct(
+            w, rows, columns, staggered, dt
+        )
+        flat, flat_aux = _columns(predicted), _columns(aux)
+        f = self.model.flux(flat, flat_aux).reshape(predicted.shape)
+        g = self.model.flux(flat, flat_aux, direction="y").reshape(predicted.shape)
 
         def corners(array: Array) -> tuple[Array, Array, Array, Array]:
-            return array[:, :-1, :-1], array[:, :-1, 1:], array[:, 1:, :-1], array[:, 1:, 1:]
+            return (
+                array[..., :-1, :-1],
+                array[..., :-1, 1:],
+                array[..., 1:, :-1],
+                array[..., 1:, 1:],
+            )
 
-        a, b, c, d = corners(values)
+        a, b, c, d_ = corners(values)
         xa, xb, xc, xd = corners(slopes_x)
         ya, yb, yc, yd = corners(slopes_y)
         fa, fb, fc, fd = corners(f)
         ga, gb, gc, gd = corners(g)
-        return (
-            0.25 * ((a + b) + (c + d))
+        new = (
+            0.25 * ((a + b) + (c + d_))
             + 0.0625 * ((xa - xb) + (xc - xd))
             + 0.0625 * ((ya - yc) + (yb - yd))
             - 0.5 * (dt / self.grid.dx) * ((fb - fa) + (fd - fc))
             - 0.5 * (dt / self.grid.dy) * ((gc - ga) + (gd - gb))
         )
+        if twist is not None:
+            d = self.model.depth_index
+            assert d is not None
+            ta, tb, tc, td = corners(twist)
+            new[d] += 0.0625 * ((ta - tb) + (td - tc))
+            # An empty quarter is a sum of terms that cancel: a new depth within round-off of
+            # its terms of 0 is 0 (the cell was emptied exactly).
+            size = (
+                0.25 * (np.abs(a[d]) + np.abs(b[d]) + np.abs(c[d]) + np.abs(d_[d]))
+                + 0.0625 * sum(np.abs(term[d]) for term in (xa, xb, xc, xd, ya, yb, yc, yd))
+                + 0.0625 * (np.abs(ta) + np.abs(tb) + np.abs(tc) + np.abs(td))
+                + 0.5 * (dt / self.grid.dx) * sum(np.abs(term[d]) for term in (fa, fb, fc, fd))
+                + 0.5 * (dt / self.grid.dy) * sum(np.abs(term[d]) for term in (ga, gb, gc, gd))
+            )
+            emptied = np.abs(new[d]) <= ROUND_OFF * size
+            new[d] = np.where(emptied, 0.0, new[d])
+        if self.uses["balanced_source"]:
+            new += dt * self._balanced_sources(predicted, aux)
+        return self._finish(new, w, first, staggered, dt)
 
-    def _predictor(self, values: Array, slopes_x: Array, slopes_y: Array, dt: float) -> Array:
-        """``w + dt/2 (-A(w) w'/dx - B(w) w*/dy)`` at every source cell."""
-        nv = values.shape[0]
-        flat = values.reshape(nv, -1)
+    def _finish(self, new: Array, w: Array, first: int, staggered: bool, dt: float) -> Array:
+        """The model's correction of the new cells, then the velocity bound of thin tails."""
+        model = self.model
+        if self.uses["correction"]:
+            aux_new = self.family_aux(not staggered)
+            flat_aux = _columns(aux_new)
+            new = model.correct(_columns(new), flat_aux, dt).reshape(new.shape)
+        if model.depth_index is not None and model.momentum_index is not None:
+            self._bound_velocities(w, first, staggered, dt, new)
+        return new
+
+    def _predictor(
+        self, values: Array, slopes_x: Array, slopes_y: Array, aux: Array, dt: float
+    ) -> Array:
+        """``w + dt/2 (-A(w) w'/dx - B(w) w*/dy + s(w))`` at every source cell."""
+        flat = _columns(values)
+        flat_aux = _columns(aux)
+        model = self.model
         along_x = np.einsum(
-            "rcm,cm->rm", self.model.flux_jacobian(flat), slopes_x.reshape(nv, -1)
+            "rcm,cm->rm", model.flux_jacobian(flat, flat_aux), _columns(slopes_x)
         ) * (1.0 / self.grid.dx)
         along_y = np.einsum(
-            "rcm,cm->rm", self.model.flux_jacobian(flat, direction="y"), slopes_y.reshape(nv, -1)
+            "rcm,cm->rm",
+            model.flux_jacobian(flat, flat_aux, direction="y"),
+            _columns(slopes_y),
         ) * (1.0 / self.grid.dy)
         rate = -(along_x + along_y)
+        if self.uses["source"]:
+            rate += model.source(flat, flat_aux)
         return (flat + 0.5 * dt * rate).reshape(values.shape)
+
+    def _pair_sources(
+        self, first: Array, second: Array, aux: tuple[Array, Array], y: bool
+    ) -> Array:
+        """``balanced_source_point`` (``_y_point`` if ``y``) of every pair of cells ``(first,
+        second)`` (arrays of the same shape), interleaved so that one call handles all pairs."""
+        nv, n_aux = first.shape[0], aux[0].shape[0]
+        pairs = np.empty((nv, 2 * first[0].size))
+        pairs[:, 0::2] = _columns(first)
+        pairs[:, 1::2] = _columns(second)
+        pair_aux = np.empty((n_aux, pairs.shape[1]))
+        pair_aux[:, 0::2] = _columns(aux[0])
+        pair_aux[:, 1::2] = _columns(aux[1])
+        spacing = self.grid.dy if y else self.grid.dx
+        sources = self.model.balanced_source(pairs, pair_aux, spacing, direction="y" if y else "x")
+        return sources[:, 0::2].reshape(first.shape)
+
+    def _balanced_sources(self, predicted: Array, aux: Array) -> Array:
+        """The well-balanced source over each new cell: the mean of the x pairs (a, b), (c, d)
+        and of the y pairs (a, c), (b, d) of its corner cells' predicted values."""
+        along_x = self._pair_sources(
+            predicted[..., :, :-1],
+            predicted[..., :, 1:],
+            (aux[..., :, :-1], aux[..., :, 1:]),
+            False,
+        )
+        along_y = self._pair_sources(
+            predicted[..., :-1, :], predicted[..., 1:, :], (aux[..., :-1, :], aux[..., 1:, :]), True
+        )
+        return 0.5 * (along_x[..., :-1, :] + along_x[..., 1:, :]) + 0.5 * (
+            along_y[..., :, :-1] + along_y[..., :, 1:]
+        )
+
+    def _bound_velocities(
+        self, w: Array, first: int, staggered: bool, dt: float, new: Array
+    ) -> None:
+        """The 1D velocity bound of thin tails (``NessyahuTadmor._bound_velocities``), per
+        momentum: the velocity of a new wet cell shallower than ``THIN_TAIL`` times the deepest
+        of the 4 x 4 cells its update reads stays between their smallest ``u - 2c`` and largest
+        ``u + 2c`` (``c`` the wave speed less ``|u|`` along that momentum's direction), widened by
+        ``dt |s| / h``."""
+        model = self.model
+        d = model.depth_index
+        assert d is not None
+        n_rows, n_columns = new.shape[1:]
+        block = w[:, first - 1 : first + n_rows + 2, first - 1 : first + n_columns + 2]
+        aux = self._aux[staggered][
+            :, first - 1 : first + n_rows + 2, first - 1 : first + n_columns + 2
+        ]
+        flat, flat_aux = _columns(block), _columns(aux)
+        h = block[d]
+        wet = (h >= model.dry_depth()) & (h > 0.0)
+        source = model.source(flat, flat_aux).reshape(block.shape)
+        h_new = new[d]
+        deepest = _window_extreme(h, True)
+        wet_new = (h_new >= model.dry_depth()) & (h_new > 0.0) & (h_new < THIN_TAIL * deepest)
+        for m, direction in ((model.momentum_index, "x"), (model.momentum_y_index, "y")):
+            if m is None:
+                continue
+            u = np.where(wet, block[m] / np.where(wet, h, 1.0), 0.0)
+            speed = model.max_wave_speed(flat, flat_aux, direction=direction).reshape(h.shape)
+            c = np.maximum(speed - np.abs(u), 0.0)
+            rate = np.abs(source[m]) + model.resistance(flat, flat_aux).reshape(h.shape)
+            change = np.where(h > 0.0, rate / np.where(h > 0.0, h, 1.0), 0.0)
+            lo = _window_extreme(u - 2.0 * c - dt * change, False)
+            hi = _window_extreme(u + 2.0 * c + dt * change, True)
+            u_new = np.where(wet_new, new[m] / np.where(wet_new, h_new, 1.0), 0.0)
+            new[m] = np.where(
+                wet_new & (u_new < lo),
+                lo * h_new,
+                np.where(wet_new & (u_new > hi), hi * h_new, new[m]),
+            )
+
+    def _pair(self, q: Array, dt: float) -> tuple[Array | None, float]:
+        """A step pair of ``dt`` each from the primary family, as the 1D kernel's
+        ``step_pair``: ``(None, dt / 2)`` if a depth would become negative, ``(None, the stable
+        dt of the staggered values)`` if their Courant number reaches 1/2, else ``(values,
+        dt)``."""
+        depth = self.model.depth_index
+        middle = self.step(q, False, dt)
+        if depth is not None and np.min(middle[depth]) < 0.0:
+            return None, 0.5 * dt
+        if max(self.courant_numbers(middle, dt)) >= CFL_LIMIT:
+            return None, self.stable_dt(middle)
+        end = self.step(middle, True, dt)
+        if depth is not None and np.min(end[depth]) < 0.0:
+            return None, 0.5 * dt
+        return end, dt
 
     def advance(self, q: Array, t: float, t_end: float) -> tuple[Array, float, int]:
         """Advance primary-family values ``q`` from ``t`` to exactly ``t_end`` by step pairs of
-        one ``dt`` each (the last pair shortened to land on ``t_end``); the values, the time and
-        the number of steps."""
+        one ``dt`` each (:meth:`stable_dt`; the last pair shortened to land on ``t_end``); a pair
+        is redone with half its ``dt`` while a depth would become negative, and with the stable
+        ``dt`` of the staggered values if their Courant number would reach 1/2 (the 1D kernel's
+        rules). Returns the values, the time and the number of steps.
+
+        Raises
+        ------
+        SchemeBreakdownError
+            If the time step falls below ``DT_FLOOR dx``.
+        """
         steps = 0
         while t < t_end:
-            dt = min(self.stable_dt(q), 0.5 * (t_end - t))
-            last = 2.0 * dt >= t_end - t
-            middle = self.step(q, False, dt)
-            q = self.step(middle, True, dt)
+            remaining = t_end - t
+            dt = self.stable_dt(q)
+            last = 2.0 * dt >= remaining
+            if last:
+                dt = 0.5 * remaining
+            end, next_dt = self._pair(q, dt)
+            while end is None:
+                dt, last = next_dt, False
+                if dt < DT_FLOOR * self.grid.dx:
+                    raise SchemeBreakdownError(
+                        f"t={t:g}, step {steps}: the time step fell below {DT_FLOOR:g} dx "
+                        "(a depth stays negative)"
+                    )
+                end, next_dt = self._pair(q, dt)
+            q = end
             t = t_end if last else t + 2.0 * dt
             steps += 2
         return q, t, steps

@@ -26,6 +26,7 @@ from conslaw.schemes.base import (
     ProgressCallback,
     Scheme,
 )
+from conslaw.schemes.depth_rules import velocity_bounded_slope
 from conslaw.schemes.nessyahu_tadmor.constants import DEPTH_SLOPE_LIMIT, THIN_TAIL
 from conslaw.schemes.nessyahu_tadmor.kernels import kernel_parameters, nt_kernels
 from conslaw.state import State
@@ -600,12 +601,7 @@ class NessyahuTadmor(Scheme):
             np.maximum(u[start - 1 : stop - 1], u[start:stop]), u[start + 1 : stop + 1]
         )
         h, q = depth_all[cells], momentum_all[cells]
-        plus = h + 0.25 * slopes[d]
-        minus = h - 0.25 * slopes[d]
-        low = np.maximum(4.0 * (plus * u_min - q), 4.0 * (q - minus * u_max))
-        high = np.minimum(4.0 * (plus * u_max - q), 4.0 * (q - minus * u_min))
-        bounded = np.minimum(np.maximum(slopes[m], low), high)
-        slopes[m] = np.where(h > 0.0, bounded, slopes[m])
+        slopes[m] = velocity_bounded_slope(h, q, slopes[d], slopes[m], u_min, u_max)
 
     def advance(
         self, state: State, t_end: float, progress: ProgressCallback | None = None
