@@ -100,7 +100,7 @@ def test_a_1d_scene_run_in_2d_is_the_1d_run(
 
 @pytest.mark.parametrize("boundary", KINDS)
 @pytest.mark.parametrize("reconstructor", RECONSTRUCTORS)
-@settings(max_examples=8, deadline=None)
+@settings(max_examples=5, deadline=None)
 @given(
     depths=st.lists(st.one_of(st.just(0.0), st.floats(1e-6, 3.0)), min_size=8, max_size=20),
     velocities=st.lists(st.floats(-2.0, 2.0), min_size=20, max_size=20),
@@ -312,7 +312,7 @@ def island_lake(reconstructor: str, n: int, boundary: str = "wall") -> JiangTadm
 def test_a_lake_with_a_dry_island_stays_at_rest_for_1000_steps() -> None:
     """Still water at 0.3 around a bump that rises to 0.5 (a dry island, walls, mc, 20 x 20):
     after 1000 steps every momentum is below 1e-12 and every depth within 1e-12 of its start;
-    dry cells stay dry (below 1e-20)."""
+    dry cells stay dry (below 1e-15, round-off of the depths beside them)."""
     jt = island_lake("mc", 20)
     q = jt.still_water(0.3)
     assert np.any(q[0] == 0.0) and np.any(q[0] > 0.2)
@@ -321,7 +321,7 @@ def test_a_lake_with_a_dry_island_stays_at_rest_for_1000_steps() -> None:
     assert steps >= 1000
     assert np.max(np.abs(end[1:])) <= 1e-12
     assert np.max(np.abs(end[0] - q[0])) <= 1e-12
-    assert np.max(end[0][q[0] == 0.0]) <= 1e-20  # round-off: far below the dry depth
+    assert np.max(end[0][q[0] == 0.0]) <= 1e-15  # round-off: far below the dry depth
 
 
 @pytest.mark.parametrize("boundary", ["wall", "periodic"])

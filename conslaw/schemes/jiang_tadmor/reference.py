@@ -415,7 +415,8 @@ class JiangTadmorReference:
         (max(-sx F, 0)/dx + max(-sy G, 0)/dy)`` the depth that the two half edges at the cell's
         centre take out of the new cell holding that quarter (``F``, ``G`` the depth fluxes of
         the predicted values). Still water drains nothing, so its quarters may be empty (dry
-        land); a quarter that is drained keeps at least twice what it loses."""
+        land); a quarter that is drained keeps at least twice what it loses. ``D`` falls with
+        ``dt``, so a small enough step keeps every new depth >= 0."""
         model = self.model
         assert model.depth_index is not None
         flat, flat_aux = _columns(predicted), _columns(aux)
@@ -462,8 +463,9 @@ class JiangTadmorReference:
         self, w: Array, rows: slice, columns: slice, staggered: bool, dt: float
     ) -> tuple[Array, Array, Array, Array | None, Array]:
         """The coefficients, limited slopes, depth twist and predicted values of the padded
-        cells ``w[:, rows, columns]``: over a bed, still cells read as still water (their
-        quarters limited by what drains them, :meth:`_drain_floors`, from a first predictor),
+        cells ``w[:, rows, columns]``: over a bed, still cells read as still water, their
+        quarters free to be empty for the predictor and then limited by what its fluxes drain
+        (:meth:`_drain_floors`; the averages take these slopes, the predictor keeps the first),
         moving ones with half the depth in every quarter."""
         aux_all = self._aux[staggered]
         surface = self.uses["surface"]
@@ -482,10 +484,10 @@ class JiangTadmorReference:
         slopes_x, slopes_y, twist = self._limited_slopes(w, rows, columns, raw, floors)
         predicted = self._predictor(values, slopes_x, slopes_y, aux, dt)
         if still is not None and np.any(still_here):
-            drained = self._drain_floors(h, predicted, aux, dt)
-            floors = np.where(still_here, drained, 0.5 * h)
+            # The quarters are limited again by what the predicted fluxes drain; the predictor
+            # keeps the first slopes, so that what drains a quarter is what was measured.
+            floors = np.where(still_here, self._drain_floors(h, predicted, aux, dt), 0.5 * h)
             slopes_x, slopes_y, twist = self._limited_slopes(w, rows, columns, raw, floors)
-            predicted = self._predictor(values, slopes_x, slopes_y, aux, dt)
         return aux, slopes_x, slopes_y, twist, predicted
 
     def step(self, q: Array, staggered: bool, dt: float) -> Array:
