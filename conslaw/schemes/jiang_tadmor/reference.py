@@ -30,9 +30,10 @@ A depth-averaged model (``depth_index``, ``momentum_index``, ``momentum_y_index`
 depth rules in both directions (docs/design.md, "Depth-averaged models: dry states and
 positivity"): the depth reconstructed through the surface ``depth + bed`` with the bed's quarter
 averages (:mod:`conslaw.schemes.jiang_tadmor.bed`, the twist term added to the new depth), the
-depth slopes limited together, ``|h'| + |h*| + |twist| <= 2 h``, so that every quarter keeps at
-least half the depth, each momentum slope bounded by the velocities of the cell and its two
-neighbours along that direction, the source ``s(w)`` in the predictor, the well-balanced source
+depth's slopes and twist scaled down together until every quarter keeps at least half the depth
+(a slope alone is clipped to ``2 h`` as in 1D), each momentum slope bounded by the velocities of
+the cell and its two neighbours along that direction, the source ``s(w)`` in the predictor, the
+well-balanced source
 of each pair of centres along x (``balanced_source_point``) and along y
 (``balanced_source_y_point``) averaged over the two pairs of the new cell::
 
@@ -42,6 +43,13 @@ then the model's correction, and the velocity bound of thin tails over the 4 x 4
 cell reads. :meth:`JiangTadmorReference.advance` redoes a step pair with half the time step while
 a depth would become negative (no clipping). Data that do not depend on y take the 1D steps of
 ``NessyahuTadmor.reference_step`` bit for bit here too.
+
+Still water against dry land stays still to round-off (docs/design.md, "Toward two
+dimensions"): a still cell (every velocity below ``STILL`` times its wave speed) that is partly
+flooded is read as still water over flat quarters (:meth:`JiangTadmorReference._effective_bed`),
+dry land beside water sets no surface gradient (:meth:`JiangTadmorReference._surface_data`), and
+a still cell's quarters may be empty where the predicted fluxes drain nothing
+(:meth:`JiangTadmorReference._drain_floors`).
 """
 
 from __future__ import annotations
@@ -550,7 +558,9 @@ class JiangTadmorReference:
                 + 0.5 * (dt / self.grid.dx) * sum(np.abs(term[d]) for term in (fa, fb, fc, fd))
                 + 0.5 * (dt / self.grid.dy) * sum(np.abs(term[d]) for term in (ga, gb, gc, gd))
             )
-            emptied = np.abs(new[d]) <= ROUND_OFF * size
+            # (Below the smallest normal number the relative precision is gone: such a depth
+            # is round-off too; a subnormal depth of 6e-310 gave -5e-324 at any time step.)
+            emptied = np.abs(new[d]) <= ROUND_OFF * size + np.finfo(np.float64).tiny
             new[d] = np.where(emptied, 0.0, new[d])
         if self.uses["balanced_source"]:
             new += dt * self._balanced_sources(predicted, aux)
