@@ -74,3 +74,35 @@ def builtin_slopes(code, values, count, out):
             out[j] = slope_none(
                 values[j], values[j + 1], values[j + 2], values[j + 3], values[j + 4]
             )
+
+
+@njit(cache=True, error_model="numpy")
+def builtin_slopes_across(code, rows, count, out):
+    """Slopes of ``count`` cells across five rows with the built-in reconstructor of ``code``.
+
+    ``out[j] = slope(rows[0, j], rows[1, j], rows[2, j], rows[3, j], rows[4, j])`` for ``j <
+    count``: :func:`builtin_slopes` along the first axis of ``rows`` (the slopes in y of a row of
+    a 2D grid, whose stencil is the same column in the two rows below and the two above), so that
+    each branch is again a plain loop over the cells of a row.
+    """
+    if code == MINMOD:
+        for j in range(count):
+            out[j] = slope_minmod(rows[0, j], rows[1, j], rows[2, j], rows[3, j], rows[4, j])
+    elif code == SUPERBEE:
+        for j in range(count):
+            out[j] = slope_superbee(rows[0, j], rows[1, j], rows[2, j], rows[3, j], rows[4, j])
+    elif code == VANLEER:
+        for j in range(count):
+            out[j] = slope_vanleer(rows[0, j], rows[1, j], rows[2, j], rows[3, j], rows[4, j])
+    elif code == MC:
+        for j in range(count):
+            out[j] = slope_mc(rows[0, j], rows[1, j], rows[2, j], rows[3, j], rows[4, j])
+    elif code == WENO3:
+        for j in range(count):
+            out[j] = slope_weno3(rows[0, j], rows[1, j], rows[2, j], rows[3, j], rows[4, j])
+    elif code == WENO5:
+        for j in range(count):
+            out[j] = slope_weno5(rows[0, j], rows[1, j], rows[2, j], rows[3, j], rows[4, j])
+    else:
+        for j in range(count):
+            out[j] = slope_none(rows[0, j], rows[1, j], rows[2, j], rows[3, j], rows[4, j])

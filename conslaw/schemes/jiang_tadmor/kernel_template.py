@@ -1,0 +1,448 @@
+"""Template: the compiled Jiang–Tadmor step (Jiang & Tadmor 1998, SIAM J. Sci. Comput. 19), the
+formula of :mod:`conslaw.schemes.jiang_tadmor.reference`, for models without a bed.
+
+Generated per model (and plugin reconstructor) by
+:func:`~conslaw.schemes.jiang_tadmor.kernels.jt_kernels`; do not import directly. Layout: padded
+arrays ``w[v, NG + k, NG + j]`` for the real cells ``(k, j)`` (row ``k`` along y, column ``j``
+along x) of one family.
+
+One step maps family A to family B, whose cell ``(k, j)`` is centred on the common corner of the
+A-cells ``a = (first + k, first + j)``, ``b`` to its right, ``c`` above ``a`` and ``d`` above
+``b`` (``first = NG - 1`` primary -> staggered, ``NG`` back). How it is made fast without a second
+copy of the physics (docs/design.md, "Toward two dimensions"):
+
+- **Rows in parallel, one pass over memory.** The new rows are cut into as many chunks as the
+  work array has (``work.shape[0]``), run with numba's ``prange``. A chunk computes each source
+  row once (:func:`predict_row`: slopes in x and y, the depth rules, the predictor and the fluxes
+  of the predicted values, into one of two work rows that take turns), then the new row between
+  the last two (:func:`average_row`), its thin-tail velocity bound (:func:`bound_tails`) and its
+  largest wave speeds and smallest depth (:func:`row_statistics`), which is all the time loop
+  needs from the new state. A source row is computed twice only where two chunks meet.
+- **Registers, not arrays, per cell.** The model's pointwise functions fill stack arrays of a
+  compile-time size (:mod:`conslaw.kernelgen.stack`), as in the 1D template.
+- **Slopes row by row.** The built-in reconstructor is chosen once per row
+  (:func:`~conslaw.reconstruct.dispatch.builtin_slopes` along a row,
+  :func:`~conslaw.reconstruct.dispatch.builtin_slopes_across` across five rows), so its loop is
+  a plain loop over the cells.
+- **Compile-time switches** (constants of the generated module): ``NV``, ``NAUX``; ``DEPTH``,
+  ``MOMENTUM``, ``MOMENTUM_Y`` (rows of the depth and of its two momenta, or -1) and
+  ``DRY_DEPTH``; ``HAS_CORRECTION``; ``CUSTOM_SLOPES`` (a plugin's reconstructor).
+
+The arithmetic of every cell is that of :meth:`JiangTadmorReference.step`, operation for
+operation (no fast-math), so the two agree to round-off.
+"""
+
+from typing import NamedTuple  # noqa: I001 (the binding block below is replaced when generated)
+
+import numpy as np
+from numba import njit, prange
+
+from conslaw.kernelgen.stack import local_matrix, local_vector
+from conslaw.reconstruct.dispatch import builtin_slopes, builtin_slopes_across
+from conslaw.schemes.nessyahu_tadmor.constants import DEPTH_SLOPE_LIMIT, THIN_TAIL
+
+# --- bindings ---
+from conslaw.pointwise import (
+    correct_point as _correct_point,
+    flux_point as _flux_point,
+    flux_y_point as _flux_y_point,
+    jacobian_point as _jacobian_point,
+    jacobian_y_point as _jacobian_y_point,
+    max_speed_point as _max_speed_point,
+    max_speed_y_point as _max_speed_y_point,
+    slope_point as _slope_point,
+)
+
+NV = 1
+NAUX = 0
+NPARAMS = 1
+HAS_CORRECTION = False
+DEPTH = -1
+MOMENTUM = -1
+MOMENTUM_Y = -1
+DRY_DEPTH = 0.0
+CUSTOM_SLOPES = False
+# --- end bindings ---
+
+#: Ghost cells per side: the slope stencil's half width and the staggered shift.
+NG = 3
+#: Rows of a work row: limited slopes in x, in y, then the x and y fluxes of the predicted values.
+SLOPE_X = 0
+SLOPE_Y = NV
+FLUX_X = 2 * NV
+FLUX_Y = 3 * NV
+WORK_ROWS = 4 * NV
+#: Kinds of side (the ``kinds`` array of :func:`fill_ghosts`).
+PERIODIC = 0
+OUTFLOW = 1
+WALL = 2
+#: Columns of the per-row statistics: largest wave speed in x, in y, smallest depth.
+SPEED_X = 0
+SPEED_Y = 1
+LOWEST = 2
+#: Index of the reconstructor's code in the parameter vector.
+SLOPE_CODE = NPARAMS
+
+
+class Sides(NamedTuple):
+    """The kinds of the four sides (``left, right, bottom, top``; :data:`PERIODIC`,
+    :data:`OUTFLOW`, :data:`WALL`) and the signs of every variable mirrored across an x wall and
+    across a y wall."""
+
+    kinds: np.ndarray
+    signs_x: np.ndarray
+    signs_y: np.ndarray
+
+
+class Step(NamedTuple):
+    """What one step reads besides the states: the first padded source row and column
+    (``NG - 1`` from the primary family, ``NG`` from the staggered), the new family's rows and
+    columns, the time step and the cell widths."""
+
+    first: int
+    rows: int
+    columns: int
+    dt: float
+    dx: float
+    dy: float
+
+
+def work_shape(chunks, columns):
+    """Shape of the work array for steps into families of up to ``columns`` columns (plain
+    Python): per chunk, two work rows of ``WORK_ROWS`` rows over the ``columns + 1`` source
+    cells."""
+    return (chunks, 2, WORK_ROWS, columns + 1)
+
+
+@njit(cache=True)
+def ghost_source(i, n, kind, staggered, low):
+    """The real index (padded) whose value the ghost index ``i`` of a direction of ``n`` real
+    cells takes, on its low (``low``) or high end: a periodic copy, the end cell (outflow), or
+    the mirror image about the face (a wall of the primary family) or about the end cell's centre
+    (a wall of the staggered family, whose end cell straddles the wall)."""
+    if kind == PERIODIC:
+        return NG + (i - NG + n * NG) % n
+    if kind == OUTFLOW:
+        return NG if low else NG + n - 1
+    shift = 1 if staggered else 0
+    if low:
+        return NG + (NG - 1 - i) + shift
+    return NG + n - 1 - (i - NG - n) - shift
+
+
+@njit(cache=True)
+def fill_ghosts(w, rows, columns, staggered, sides):
+    """The ghost cells of a padded family: along x for the real rows, then along y for every
+    column (the corners take the x ghosts' images), as :meth:`JiangTadmorReference.padded`."""
+    kinds = sides.kinds
+    for k in range(NG, NG + rows):
+        for g in range(NG):
+            for end in range(2):
+                i = NG - 1 - g if end == 0 else NG + columns + g
+                kind = kinds[end]
+                source = ghost_source(i, columns, kind, staggered, end == 0)
+                for v in range(NV):
+                    value = w[v, k, source]
+                    w[v, k, i] = value * sides.signs_x[v] if kind == WALL else value
+    for g in range(NG):
+        for end in range(2):
+            i = NG - 1 - g if end == 0 else NG + rows + g
+            kind = kinds[2 + end]
+            source = ghost_source(i, rows, kind, staggered, end == 0)
+            for v in range(NV):
+                sign = sides.signs_y[v] if kind == WALL else 1.0
+                for j in range(columns + 2 * NG):
+                    w[v, i, j] = w[v, source, j] * sign if kind == WALL else w[v, source, j]
+
+
+@njit(cache=True, error_model="numpy")
+def velocity_at(w, m, k, j):
+    """``m / h`` of padded cell ``(k, j)``, 0 if dry (the reference's ``np.where(wet, m / safe,
+    0)``)."""
+    depth = w[DEPTH, k, j]
+    wet = depth >= DRY_DEPTH and depth > 0.0
+    velocity = w[m, k, j] / (depth if wet else 1.0)
+    return velocity if wet else 0.0
+
+
+@njit(cache=True, inline="always")
+def quarter_ratio(ratio, depth, deviation):
+    """``ratio`` lowered so that a quarter ``depth + ratio deviation`` keeps half the depth."""
+    floor = 0.5 * depth
+    if depth + deviation < floor:
+        return min(ratio, (depth - floor) / -deviation)
+    return ratio
+
+
+@njit(cache=True, inline="always")
+def limited_depth_slope(along, across, ratio, depth):
+    """The depth's slope ``along`` one direction: clipped to ``DEPTH_SLOPE_LIMIT depth`` where
+    the slope ``across`` is 0 (the 1D rule, bit for bit), else scaled by the quarters' ratio."""
+    if across != 0.0:
+        return along * ratio
+    limit = DEPTH_SLOPE_LIMIT * depth
+    return min(max(along, -limit), limit)
+
+
+@njit(cache=True, inline="always")
+def bounded_momentum_slope(depth, momentum, depth_slope, slope, u_min, u_max):
+    """The momentum slope clamped so that the velocities at both quarter points along its
+    direction stay in ``[u_min, u_max]`` (:func:`conslaw.schemes.depth_rules.
+    velocity_bounded_slope`)."""
+    plus = depth + 0.25 * depth_slope
+    minus = depth - 0.25 * depth_slope
+    low = max(4.0 * (plus * u_min - momentum), 4.0 * (momentum - minus * u_max))
+    high = min(4.0 * (plus * u_max - momentum), 4.0 * (momentum - minus * u_min))
+    return min(max(slope, low), high)
+
+
+@njit(cache=True, error_model="numpy")
+def bound_momenta(w, k, j, depth, slope_x, slope_y, q):
+    """Each momentum's slopes in x and in y bounded by the velocities of the cell and its two
+    neighbours along that direction."""
+    for m in (MOMENTUM, MOMENTUM_Y):
+        if m < 0:
+            continue
+        u_c = velocity_at(w, m, k, j)
+        u_l, u_r = velocity_at(w, m, k, j - 1), velocity_at(w, m, k, j + 1)
+        u_min, u_max = min(min(u_l, u_c), u_r), max(max(u_l, u_c), u_r)
+        slope_x[m] = bounded_momentum_slope(depth, q[m], slope_x[DEPTH], slope_x[m], u_min, u_max)
+        u_l, u_r = velocity_at(w, m, k - 1, j), velocity_at(w, m, k + 1, j)
+        u_min, u_max = min(min(u_l, u_c), u_r), max(max(u_l, u_c), u_r)
+        slope_y[m] = bounded_momentum_slope(depth, q[m], slope_y[DEPTH], slope_y[m], u_min, u_max)
+
+
+@njit(cache=True, error_model="numpy")
+def depth_rules(w, k, j, slope_x, slope_y, q):
+    """The depth rules of :meth:`JiangTadmorReference._limited_slopes` without a bed: the depth's
+    slopes scaled down together until every quarter keeps half the depth (a slope alone clipped
+    as in 1D), the momentum slopes bounded by the velocities, every slope 0 in a dry cell."""
+    depth = q[DEPTH]
+    if depth <= 0.0:
+        for v in range(NV):
+            slope_x[v] = 0.0
+            slope_y[v] = 0.0
+        return
+    along_x, along_y = slope_x[DEPTH], slope_y[DEPTH]
+    ratio = quarter_ratio(1.0, depth, 0.25 * (-along_x + -along_y))
+    ratio = quarter_ratio(ratio, depth, 0.25 * (along_x + -along_y))
+    ratio = quarter_ratio(ratio, depth, 0.25 * (-along_x + along_y))
+    ratio = quarter_ratio(ratio, depth, 0.25 * (along_x + along_y))
+    slope_x[DEPTH] = limited_depth_slope(along_x, along_y, ratio, depth)
+    slope_y[DEPTH] = limited_depth_slope(along_y, along_x, ratio, depth)
+    if MOMENTUM >= 0:
+        bound_momenta(w, k, j, depth, slope_x, slope_y, q)
+
+
+@njit(cache=True, error_model="numpy")
+def raw_slopes(w, k, first, count, params, slots):
+    """The reconstructor's slopes in x and in y of the ``count`` padded cells ``(k, first + j)``
+    into the slope rows of ``slots``."""
+    code = int(params[SLOPE_CODE])
+    for v in range(NV):
+        along, across = slots[SLOPE_X + v], slots[SLOPE_Y + v]
+        if CUSTOM_SLOPES:
+            for j in range(count):
+                c = first + j
+                along[j] = _slope_point(
+                    w[v, k, c - 2], w[v, k, c - 1], w[v, k, c], w[v, k, c + 1], w[v, k, c + 2]
+                )
+                across[j] = _slope_point(
+                    w[v, k - 2, c], w[v, k - 1, c], w[v, k, c], w[v, k + 1, c], w[v, k + 2, c]
+                )
+        else:
+            builtin_slopes(code, w[v, k, first - 2 : first + count + 2], count, along)
+            builtin_slopes_across(code, w[v, k - 2 : k + 3, first : first + count], count, across)
+
+
+@njit(cache=True, error_model="numpy")
+def predict_row(w, k, first, count, step, params, slots):
+    """Slopes, predicted values ``w + dt/2 (-A w'/dx - B w*/dy)`` and their x and y fluxes of
+    the ``count`` padded cells ``(k, first + j)``, into ``slots``."""
+    local = local_vector(NPARAMS)
+    for p in range(NPARAMS):
+        local[p] = params[p]
+    raw_slopes(w, k, first, count, params, slots)
+    q, aux = local_vector(NV), local_vector(NAUX)
+    slope_x, slope_y = local_vector(NV), local_vector(NV)
+    jacobian, predicted, out = local_matrix(NV), local_vector(NV), local_vector(NV)
+    for a in range(NAUX):
+        aux[a] = 0.0
+    inverse_dx, inverse_dy, half_dt = 1.0 / step.dx, 1.0 / step.dy, 0.5 * step.dt
+    for j in range(count):
+        for v in range(NV):
+            q[v] = w[v, k, first + j]
+            slope_x[v] = slots[SLOPE_X + v, j]
+            slope_y[v] = slots[SLOPE_Y + v, j]
+        if DEPTH >= 0:
+            depth_rules(w, k, first + j, slope_x, slope_y, q)
+        for v in range(NV):
+            slots[SLOPE_X + v, j] = slope_x[v]
+            slots[SLOPE_Y + v, j] = slope_y[v]
+            predicted[v] = 0.0
+        _jacobian_point(q, aux, local, jacobian)
+        for r in range(NV):
+            total = 0.0
+            for c in range(NV):
+                total += jacobian[r, c] * slope_x[c]
+            predicted[r] = total * inverse_dx
+        _jacobian_y_point(q, aux, local, jacobian)
+        for r in range(NV):
+            total = 0.0
+            for c in range(NV):
+                total += jacobian[r, c] * slope_y[c]
+            predicted[r] = q[r] + half_dt * -(predicted[r] + total * inverse_dy)
+        _flux_point(predicted, aux, local, out)
+        for v in range(NV):
+            slots[FLUX_X + v, j] = out[v]
+        _flux_y_point(predicted, aux, local, out)
+        for v in range(NV):
+            slots[FLUX_Y + v, j] = out[v]
+
+
+@njit(cache=True, error_model="numpy")
+def average_row(w, out, k, step, params, low, high):
+    """New row ``k``: the staggered averages of the corner cells' reconstructions and the
+    midpoint-rule fluxes through the half edges (the formula of
+    :mod:`~conslaw.schemes.jiang_tadmor.reference`), then the model's correction."""
+    local = local_vector(NPARAMS)
+    for p in range(NPARAMS):
+        local[p] = params[p]
+    q, aux = local_vector(NV), local_vector(NAUX)
+    for a in range(NAUX):
+        aux[a] = 0.0
+    lambda_x = 0.5 * (step.dt / step.dx)
+    lambda_y = 0.5 * (step.dt / step.dy)
+    row = step.first + k
+    for j in range(step.columns):
+        c = step.first + j
+        for v in range(NV):
+            a, b = w[v, row, c], w[v, row, c + 1]
+            cc, d = w[v, row + 1, c], w[v, row + 1, c + 1]
+            xa, xb = low[SLOPE_X + v, j], low[SLOPE_X + v, j + 1]
+            xc, xd = high[SLOPE_X + v, j], high[SLOPE_X + v, j + 1]
+            ya, yb = low[SLOPE_Y + v, j], low[SLOPE_Y + v, j + 1]
+            yc, yd = high[SLOPE_Y + v, j], high[SLOPE_Y + v, j + 1]
+            fa, fb = low[FLUX_X + v, j], low[FLUX_X + v, j + 1]
+            fc, fd = high[FLUX_X + v, j], high[FLUX_X + v, j + 1]
+            ga, gb = low[FLUX_Y + v, j], low[FLUX_Y + v, j + 1]
+            gc, gd = high[FLUX_Y + v, j], high[FLUX_Y + v, j + 1]
+            q[v] = (
+                0.25 * ((a + b) + (cc + d))
+                + 0.0625 * ((xa - xb) + (xc - xd))
+                + 0.0625 * ((ya - yc) + (yb - yd))
+                - lambda_x * ((fb - fa) + (fd - fc))
+                - lambda_y * ((gc - ga) + (gd - gb))
+            )
+        if HAS_CORRECTION:
+            _correct_point(q, aux, local, step.dt)
+        for v in range(NV):
+            out[v, NG + k, NG + j] = q[v]
+
+
+@njit(cache=True, error_model="numpy")
+def velocity_window(w, m, row, c, along_y, params):
+    """Smallest ``u - 2c`` and largest ``u + 2c`` of momentum ``m`` over the 4 x 4 padded cells
+    from ``(row, c)`` (``c`` the wave speed less ``|u|`` along the momentum's direction)."""
+    q, aux = local_vector(NV), local_vector(NAUX)
+    for a in range(NAUX):
+        aux[a] = 0.0
+    lowest, highest = np.inf, -np.inf
+    for r in range(row, row + 4):
+        for i in range(c, c + 4):
+            for v in range(NV):
+                q[v] = w[v, r, i]
+            u = velocity_at(w, m, r, i)
+            if along_y:
+                speed = _max_speed_y_point(q, aux, params)
+            else:
+                speed = _max_speed_point(q, aux, params)
+            wave = max(speed - abs(u), 0.0)
+            lowest = min(lowest, u - 2.0 * wave)
+            highest = max(highest, u + 2.0 * wave)
+    return lowest, highest
+
+
+@njit(cache=True, error_model="numpy")
+def bound_tails(w, out, k, step, params):
+    """The velocity bound of thin tails in new row ``k``
+    (:meth:`JiangTadmorReference._bound_velocities` without a source): a new wet cell shallower
+    than ``THIN_TAIL`` times the deepest of the 4 x 4 cells its update reads keeps each velocity
+    between their smallest ``u - 2c`` and largest ``u + 2c``."""
+    row = step.first + k - 1
+    for j in range(step.columns):
+        depth = out[DEPTH, NG + k, NG + j]
+        if not (depth >= DRY_DEPTH and depth > 0.0):
+            continue
+        c = step.first + j - 1
+        deepest = -np.inf
+        for r in range(row, row + 4):
+            for i in range(c, c + 4):
+                deepest = max(deepest, w[DEPTH, r, i])
+        if not depth < THIN_TAIL * deepest:
+            continue
+        for m in (MOMENTUM, MOMENTUM_Y):
+            if m < 0:
+                continue
+            lowest, highest = velocity_window(w, m, row, c, m == MOMENTUM_Y, params)
+            u = out[m, NG + k, NG + j] / depth
+            if u < lowest:
+                out[m, NG + k, NG + j] = lowest * depth
+            elif u > highest:
+                out[m, NG + k, NG + j] = highest * depth
+
+
+@njit(cache=True, error_model="numpy")
+def row_statistics(out, k, columns, params, statistics):
+    """Largest wave speeds in x and y and smallest depth of padded row ``NG + k`` (NaN if a
+    value is NaN) into ``statistics[k]``."""
+    q, aux = local_vector(NV), local_vector(NAUX)
+    for a in range(NAUX):
+        aux[a] = 0.0
+    speed_x, speed_y, lowest, finite = 0.0, 0.0, np.inf, True
+    for j in range(columns):
+        for v in range(NV):
+            q[v] = out[v, NG + k, NG + j]
+        along_x = _max_speed_point(q, aux, params)
+        along_y = _max_speed_y_point(q, aux, params)
+        speed_x = max(speed_x, along_x)
+        speed_y = max(speed_y, along_y)
+        finite = finite and along_x == along_x and along_y == along_y
+        if DEPTH >= 0:
+            lowest = min(lowest, q[DEPTH])
+            finite = finite and q[DEPTH] == q[DEPTH]
+    if not finite:
+        speed_x, speed_y, lowest = np.nan, np.nan, np.nan
+    statistics[k, SPEED_X] = speed_x
+    statistics[k, SPEED_Y] = speed_y
+    statistics[k, LOWEST] = lowest
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def step_family(w, out, work, statistics, params, step):
+    """One Jiang–Tadmor step from the padded family ``w`` into the real cells of ``out`` (its
+    ghosts are left to :func:`fill_ghosts`), with each new row's statistics
+    (:func:`row_statistics`) in ``statistics``; the rows in ``work.shape[0]`` chunks across the
+    threads."""
+    chunks = work.shape[0]
+    per_chunk = (step.rows + chunks - 1) // chunks
+    for chunk in prange(chunks):
+        start = chunk * per_chunk
+        stop = min(step.rows, start + per_chunk)
+        slots = work[chunk]
+        if start < stop:
+            predict_row(w, step.first + start, step.first, step.columns + 1, step, params, slots[0])
+        for k in range(start, stop):
+            low, high = slots[(k - start) % 2], slots[(k - start + 1) % 2]
+            predict_row(w, step.first + k + 1, step.first, step.columns + 1, step, params, high)
+            average_row(w, out, k, step, params, low, high)
+            if DEPTH >= 0 and MOMENTUM >= 0:
+                bound_tails(w, out, k, step, params)
+            row_statistics(out, k, step.columns, params, statistics)
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def family_statistics(w, rows, columns, params, statistics):
+    """:func:`row_statistics` of every real row of the padded family ``w``."""
+    for k in prange(rows):
+        row_statistics(w, k, columns, params, statistics)

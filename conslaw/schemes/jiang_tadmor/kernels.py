@@ -1,0 +1,46 @@
+"""The compiled Jiang–Tadmor kernels of one model (and a plugin's reconstructor, if the scene
+uses one), generated from ``kernel_template.py`` by the kernel toolkit (docs/design.md,
+"Compiled kernels")."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from types import ModuleType
+
+from conslaw import pointwise
+from conslaw.kernelgen import generate
+from conslaw.model import Model
+from conslaw.reconstruct import Reconstructor
+
+TEMPLATE = Path(__file__).with_name("kernel_template.py")
+
+
+def jt_kernels(model: Model, reconstructor: Reconstructor) -> ModuleType:
+    """The Jiang–Tadmor kernels of a 2D model: its x and y pointwise functions, its correction
+    and depth rows; every built-in reconstructor shares them (its code is a run-time parameter),
+    a plugin's reconstructor has its own."""
+    model_class = type(model)
+    custom = reconstructor.code is None
+    bindings = {
+        "_flux_point": model_class.flux_point,
+        "_jacobian_point": model_class.jacobian_point,
+        "_max_speed_point": model_class.max_speed_point,
+        "_flux_y_point": model_class.flux_y_point,
+        "_jacobian_y_point": model_class.jacobian_y_point,
+        "_max_speed_y_point": model_class.max_speed_y_point,
+        "_correct_point": model_class.correct_point or pointwise.unbound,
+        "_slope_point": reconstructor.slope_point if custom else pointwise.slope_point,
+    }
+    uses = model.capabilities()
+    constants = {
+        "NV": int(model.n_vars),
+        "NAUX": int(model.n_aux),
+        "NPARAMS": len(model.param_vector()),
+        "HAS_CORRECTION": bool(uses["correction"]),
+        "DEPTH": -1 if model.depth_index is None else int(model.depth_index),
+        "MOMENTUM": -1 if model.momentum_index is None else int(model.momentum_index),
+        "MOMENTUM_Y": -1 if model.momentum_y_index is None else int(model.momentum_y_index),
+        "DRY_DEPTH": float(model.dry_depth()),
+        "CUSTOM_SLOPES": custom,
+    }
+    return generate(TEMPLATE, bindings, constants)  # type: ignore[arg-type]

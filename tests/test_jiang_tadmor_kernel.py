@@ -1,0 +1,227 @@
+"""The compiled Jiang–Tadmor kernel (:class:`conslaw.schemes.jiang_tadmor.scheme.JiangTadmor`)
+against the numpy reference it is written from: the same steps and values for every
+reconstructor and kind of side, wet and dry, in 2D shallow water and Burgers; results that do
+not depend on the threads or on how the rows are cut; conservation; a blow-up stopped with the
+time, step and cell."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+
+import conslaw
+from conslaw import registry
+from conslaw.errors import ConfigError, SchemeBreakdownError
+from conslaw.grid2d import Grid2D
+from conslaw.schemes.jiang_tadmor import JiangTadmorReference
+from conslaw.schemes.jiang_tadmor.scheme import JiangTadmor, compiles
+from conslaw_models.burgers_2d import Burgers2D
+from conslaw_models.shallow_water_2d import ShallowWater2D
+
+RECONSTRUCTORS = registry.reconstructors.names()
+KINDS = ("periodic", "outflow", "wall")
+#: The kernel's sums are the reference's, operation for operation; numpy's einsum in the
+#: reference's predictor may add a Jacobian's products in another order on another machine.
+TOLERANCE = 1e-12
+
+
+def sides(x_kind: str, y_kind: str) -> dict[str, str]:
+    return {"left": x_kind, "right": x_kind, "bottom": y_kind, "top": y_kind}
+
+
+def column(grid: Grid2D, inside: float, outside: float, drift: float) -> np.ndarray:
+    """A round column of depth ``inside`` (radius 0.5, centred off the grid's centre) on water
+    of depth ``outside`` (0: a dry bed), moving at ``(drift, -drift / 2)``."""
+    x, y = grid.centres()
+    r2 = (x[None, :] - 0.1) ** 2 + (y[:, None] + 0.05) ** 2
+    q = np.zeros((3, *grid.shape))
+    q[0] = np.where(r2 < 0.25, inside, outside)
+    q[1], q[2] = drift * q[0], -0.5 * drift * q[0]
+    return q
+
+
+@pytest.mark.parametrize("reconstructor", RECONSTRUCTORS)
+@pytest.mark.parametrize(("x_kind", "y_kind"), [("wall", "outflow"), ("periodic", "wall")])
+@pytest.mark.parametrize("outside", [0.1, 0.0], ids=["wet", "dry"])
+def test_the_kernel_takes_the_reference_steps(
+    reconstructor: str, x_kind: str, y_kind: str, outside: float
+) -> None:
+    """Shallow water, a column collapsing onto water or a dry bed: the compiled run equals the
+    reference run (same number of steps, values to 1e-12), every depth >= 0."""
+    grid = Grid2D.from_bounds(-1.0, 1.0, 24, -1.0, 1.0, 20)
+    limiter = registry.reconstructors.get(reconstructor)
+    model = ShallowWater2D()
+    q = column(grid, 1.0, outside, 0.3)
+    compiled = JiangTadmor(model, limiter, grid, sides(x_kind, y_kind), threads=1, chunks=3)
+    assert compiled.compiled
+    reference = JiangTadmorReference(model, limiter, grid, sides(x_kind, y_kind))
+    q_compiled, t_compiled, steps_compiled = compiled.advance(q, 0.0, 0.15)
+    q_reference, t_reference, steps_reference = reference.advance(q, 0.0, 0.15)
+    assert (t_compiled, steps_compiled) == (t_reference, steps_reference)
+    np.testing.assert_allclose(q_compiled, q_reference, rtol=0, atol=TOLERANCE)
+    assert np.min(q_compiled[0]) >= 0.0
+
+
+@pytest.mark.parametrize("reconstructor", ["mc", "weno5", "minmod"])
+@pytest.mark.parametrize("kind", KINDS)
+def test_burgers_takes_the_reference_steps(reconstructor: str, kind: str) -> None:
+    """Burgers 2D past its shock: compiled and reference runs agree to 1e-12."""
+    grid = Grid2D.from_bounds(-1.0, 1.0, 20, -1.0, 1.0, 16)
+    x, y = grid.centres()
+    q = (np.sin(np.pi * x)[None, :] * np.cos(np.pi * y)[:, None] + 0.2)[None]
+    limiter = registry.reconstructors.get(reconstructor)
+    compiled = JiangTadmor(Burgers2D(), limiter, grid, sides(kind, kind), threads=1)
+    reference = JiangTadmorReference(Burgers2D(), limiter, grid, sides(kind, kind))
+    q_compiled, _, steps_compiled = compiled.advance(q, 0.0, 0.6)
+    q_reference, _, steps_reference = reference.advance(q, 0.0, 0.6)
+    assert steps_compiled == steps_reference
+    np.testing.assert_allclose(q_compiled, q_reference, rtol=0, atol=TOLERANCE)
+
+
+@settings(max_examples=10, deadline=None)
+@given(
+    seed=st.integers(0, 2**32 - 1),
+    dry_fraction=st.floats(0.0, 0.6),
+    speed=st.floats(0.0, 3.0),
+    reconstructor=st.sampled_from(RECONSTRUCTORS),
+    x_kind=st.sampled_from(KINDS),
+    y_kind=st.sampled_from(KINDS),
+    courant=st.floats(0.05, 0.45),
+)
+def test_a_step_pair_of_random_states_is_the_reference_pair(
+    seed: int,
+    dry_fraction: float,
+    speed: float,
+    reconstructor: str,
+    x_kind: str,
+    y_kind: str,
+    courant: float,
+) -> None:
+    """Random depths (some dry), random velocities, any Courant number below the bound: one
+    compiled step pair (through the staggered family and back) is the reference's to 1e-12."""
+    rng = np.random.default_rng(seed)
+    grid = Grid2D.from_bounds(0.0, 1.0, 9, 0.0, 2.0, 7)
+    q = np.zeros((3, *grid.shape))
+    q[0] = np.where(rng.random(grid.shape) < dry_fraction, 0.0, rng.uniform(1e-6, 2.0, grid.shape))
+    q[1:] = q[0] * rng.uniform(-speed, speed, (2, *grid.shape))
+    limiter = registry.reconstructors.get(reconstructor)
+    model = ShallowWater2D()
+    reference = JiangTadmorReference(model, limiter, grid, sides(x_kind, y_kind))
+    compiled = JiangTadmor(model, limiter, grid, sides(x_kind, y_kind), threads=1, chunks=2)
+    dt = courant / 0.45 * reference.stable_dt(q)
+    middle = reference.step(q, False, dt)
+    expected = (
+        reference.step(middle, True, dt)
+        if max(reference.courant_numbers(middle, dt)) < 0.5
+        else None
+    )
+    np.testing.assert_allclose(compiled.step(q, False, dt), middle, rtol=0, atol=TOLERANCE)
+    if expected is not None:
+        np.testing.assert_allclose(
+            compiled.step(middle, True, dt), expected, rtol=0, atol=TOLERANCE
+        )
+
+
+@pytest.mark.parametrize(("threads", "chunks"), [(1, 1), (1, 7), (2, None), (2, 40)])
+def test_threads_and_chunks_do_not_change_the_result(threads: int, chunks: int | None) -> None:
+    """The same run with one thread in one chunk and any other cut of the rows: bit for bit."""
+    if threads > JiangTadmor.available_threads():
+        pytest.skip("one core")
+    grid = Grid2D.from_bounds(-1.0, 1.0, 30, -1.0, 1.0, 33)
+    q = column(grid, 2.0, 0.0, 0.5)
+    limiter = registry.reconstructors.get("weno5")
+    boundaries = sides("wall", "outflow")
+    single = JiangTadmor(ShallowWater2D(), limiter, grid, boundaries, threads=1, chunks=1)
+    other = JiangTadmor(ShallowWater2D(), limiter, grid, boundaries, threads=threads, chunks=chunks)
+    expected = single.advance(q, 0.0, 0.2)
+    result = other.advance(q, 0.0, 0.2)
+    assert result[1:] == expected[1:]
+    np.testing.assert_array_equal(result[0], expected[0])
+
+
+@pytest.mark.parametrize("reconstructor", ["mc", "weno5"])
+def test_a_periodic_run_conserves_every_variable(reconstructor: str) -> None:
+    """Periodic sides: the totals of h, hu and hv after 40 compiled steps are the start's to
+    round-off."""
+    grid = Grid2D.from_bounds(-1.0, 1.0, 25, -1.0, 1.0, 25)
+    q = column(grid, 1.5, 0.2, 0.7)
+    jt = JiangTadmor(
+        ShallowWater2D(),
+        registry.reconstructors.get(reconstructor),
+        grid,
+        sides("periodic", "periodic"),
+    )
+    end, _, steps = jt.advance(q, 0.0, 0.3)
+    assert steps >= 20
+    totals, start = end.sum(axis=(1, 2)), q.sum(axis=(1, 2))
+    np.testing.assert_allclose(totals, start, rtol=0, atol=1e-13 * np.abs(q).sum())
+
+
+@pytest.mark.parametrize("along_y", [False, True], ids=["along-x", "along-y"])
+@pytest.mark.parametrize(
+    ("scene", "overrides"),
+    [
+        ("dam-break-dry", {"n_cells": 200}),
+        ("dam-break-wet", {"n_cells": 200, "reconstructor": "weno5"}),
+    ],
+)
+def test_a_1d_scene_run_in_2d_by_the_kernel_is_the_1d_run(
+    scene: str, overrides: dict[str, object], along_y: bool
+) -> None:
+    """A flat-bed 1D scene turned along x (or y) in the compiled 2D scheme: every row (column)
+    is the compiled 1D run to 1e-13 (bit for bit here), with the same number of steps."""
+    result = conslaw.run(scene, **overrides)  # type: ignore[arg-type]
+    line, across = result.grid, 4
+    left, right = result.scheme.left.condition.name, result.scheme.right.condition.name
+    n = line.n_cells
+    model = ShallowWater2D(g=result.model.params.g, dry_tolerance=result.model.params.dry_tolerance)
+    if along_y:
+        grid = Grid2D.from_bounds(0.0, 1.0, across, line.x_min, line.x_max, n)
+        boundaries = {"left": "periodic", "right": "periodic", "bottom": left, "top": right}
+        q = np.zeros((3, n, across))
+        q[0], q[2] = result.initial.q[0][:, None], result.initial.q[1][:, None]
+    else:
+        grid = Grid2D.from_bounds(line.x_min, line.x_max, n, 0.0, 1.0, across)
+        boundaries = {"left": left, "right": right, "bottom": "periodic", "top": "periodic"}
+        q = np.zeros((3, across, n))
+        q[0], q[1] = result.initial.q[0][None, :], result.initial.q[1][None, :]
+    limiter = registry.reconstructors.get(result.scene.reconstructor)
+    jt = JiangTadmor(model, limiter, grid, boundaries, result.scheme.cfl)
+    t, steps = 0.0, 0
+    for state in result.states:
+        q, t, taken = jt.advance(q, t, state.t)
+        steps += taken
+    assert steps == result.steps
+    for index in range(across):
+        cut = q[[0, 2]][:, :, index] if along_y else q[[0, 1]][:, index, :]
+        np.testing.assert_allclose(cut, result.final.q, rtol=0, atol=1e-13)
+
+
+def test_a_value_that_is_not_finite_stops_the_run_with_its_cell() -> None:
+    """A NaN in the start stops the run with the time, the step and the cell."""
+    grid = Grid2D.from_bounds(0.0, 1.0, 8, 0.0, 1.0, 6)
+    q = np.ones((3, *grid.shape))
+    q[1:] = 0.0
+    q[0, 4, 2] = np.nan
+    jt = JiangTadmor(
+        ShallowWater2D(), registry.reconstructors.get("mc"), grid, sides("wall", "wall")
+    )
+    with pytest.raises(SchemeBreakdownError, match=r"t=0, step 0: cell \(row 4, column 2\)"):
+        jt.advance(q, 0.0, 1.0)
+
+
+def test_what_the_kernel_covers_and_refuses() -> None:
+    """A bed goes to the reference steps; a thread count out of range is refused."""
+    assert compiles(ShallowWater2D()) and compiles(Burgers2D())
+    assert not compiles(ShallowWater2D(bump_height=0.2))
+    limiter = registry.reconstructors.get("mc")
+    walls = sides("wall", "wall")
+    over_bed = JiangTadmor(
+        ShallowWater2D(bump_height=0.2), limiter, Grid2D.from_bounds(0, 1, 8, 0, 1, 8), walls
+    )
+    assert not over_bed.compiled
+    with pytest.raises(ConfigError, match="threads must be in"):
+        JiangTadmor(
+            ShallowWater2D(), limiter, Grid2D.from_bounds(0, 1, 8, 0, 1, 8), walls, threads=0
+        )
