@@ -77,32 +77,32 @@ def builtin_slopes(code, values, count, out):
 
 
 @njit(cache=True, error_model="numpy")
-def builtin_slopes_across(code, rows, count, out):
+def builtin_slopes_across(code, row_0, row_1, row_2, row_3, row_4, count, out):
     """Slopes of ``count`` cells across five rows with the built-in reconstructor of ``code``.
 
-    ``out[j] = slope(rows[0, j], rows[1, j], rows[2, j], rows[3, j], rows[4, j])`` for ``j <
-    count``: :func:`builtin_slopes` along the first axis of ``rows`` (the slopes in y of a row of
-    a 2D grid, whose stencil is the same column in the two rows below and the two above), so that
-    each branch is again a plain loop over the cells of a row.
+    ``out[j] = slope(row_0[j], row_1[j], row_2[j], row_3[j], row_4[j])`` for ``j < count``:
+    :func:`builtin_slopes` across the rows (the slopes in y of a row of a 2D grid, whose stencil
+    is the same column in the two rows below and the two above), so that each branch is again a
+    plain loop over the cells of a row.
     """
     if code == MINMOD:
         for j in range(count):
-            out[j] = slope_minmod(rows[0, j], rows[1, j], rows[2, j], rows[3, j], rows[4, j])
+            out[j] = slope_minmod(row_0[j], row_1[j], row_2[j], row_3[j], row_4[j])
     elif code == SUPERBEE:
         for j in range(count):
-            out[j] = slope_superbee(rows[0, j], rows[1, j], rows[2, j], rows[3, j], rows[4, j])
+            out[j] = slope_superbee(row_0[j], row_1[j], row_2[j], row_3[j], row_4[j])
     elif code == VANLEER:
         for j in range(count):
-            out[j] = slope_vanleer(rows[0, j], rows[1, j], rows[2, j], rows[3, j], rows[4, j])
+            out[j] = slope_vanleer(row_0[j], row_1[j], row_2[j], row_3[j], row_4[j])
     elif code == MC:
         for j in range(count):
-            out[j] = slope_mc(rows[0, j], rows[1, j], rows[2, j], rows[3, j], rows[4, j])
+            out[j] = slope_mc(row_0[j], row_1[j], row_2[j], row_3[j], row_4[j])
     elif code == WENO3:
         for j in range(count):
-            out[j] = slope_weno3(rows[0, j], rows[1, j], rows[2, j], rows[3, j], rows[4, j])
+            out[j] = slope_weno3(row_0[j], row_1[j], row_2[j], row_3[j], row_4[j])
     elif code == WENO5:
         for j in range(count):
-            out[j] = slope_weno5(rows[0, j], rows[1, j], rows[2, j], rows[3, j], rows[4, j])
+            out[j] = slope_weno5(row_0[j], row_1[j], row_2[j], row_3[j], row_4[j])
     else:
         for j in range(count):
-            out[j] = slope_none(rows[0, j], rows[1, j], rows[2, j], rows[3, j], rows[4, j])
+            out[j] = slope_none(row_0[j], row_1[j], row_2[j], row_3[j], row_4[j])

@@ -71,7 +71,10 @@ SLOPE_X = 0
 SLOPE_Y = NV
 FLUX_X = 2 * NV
 FLUX_Y = 3 * NV
-WORK_ROWS = 4 * NV
+#: Then the velocities of each momentum (x first) in the row below, the row and the row above.
+VELOCITY = 4 * NV
+MOMENTA = (MOMENTUM >= 0) + (MOMENTUM_Y >= 0)
+WORK_ROWS = 4 * NV + 3 * MOMENTA
 #: Kinds of side (the ``kinds`` array of :func:`fill_ghosts`).
 PERIODIC = 0
 OUTFLOW = 1
@@ -110,8 +113,8 @@ class Step(NamedTuple):
 def work_shape(chunks, columns):
     """Shape of the work array for steps into families of up to ``columns`` columns (plain
     Python): per chunk, two work rows of ``WORK_ROWS`` rows over the ``columns + 1`` source
-    cells."""
-    return (chunks, 2, WORK_ROWS, columns + 1)
+    cells and their two neighbours."""
+    return (chunks, 2, WORK_ROWS, columns + 3)
 
 
 @njit(cache=True)
@@ -155,33 +158,30 @@ def fill_ghosts(w, rows, columns, staggered, sides):
                     w[v, i, j] = w[v, source, j] * sign if kind == WALL else w[v, source, j]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True)
+def col(i):
+    """An index as an unsigned integer (numba then skips its negative-index wrap-around, a
+    select per access that keeps a loop from vectorising)."""
+    return np.uintp(i)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def velocity_at(w, m, k, j):
     """``m / h`` of padded cell ``(k, j)``, 0 if dry (the reference's ``np.where(wet, m / safe,
-    0)``)."""
-    depth = w[DEPTH, k, j]
+    0)``), without a branch around the division."""
+    depth = w[DEPTH, col(k), col(j)]
     wet = depth >= DRY_DEPTH and depth > 0.0
-    velocity = w[m, k, j] / (depth if wet else 1.0)
+    velocity = w[m, col(k), col(j)] / (depth if wet else 1.0)
     return velocity if wet else 0.0
-
-
-@njit(cache=True, inline="always")
-def quarter_ratio(ratio, depth, deviation):
-    """``ratio`` lowered so that a quarter ``depth + ratio deviation`` keeps half the depth."""
-    floor = 0.5 * depth
-    if depth + deviation < floor:
-        return min(ratio, (depth - floor) / -deviation)
-    return ratio
 
 
 @njit(cache=True, inline="always")
 def limited_depth_slope(along, across, ratio, depth):
     """The depth's slope ``along`` one direction: clipped to ``DEPTH_SLOPE_LIMIT depth`` where
     the slope ``across`` is 0 (the 1D rule, bit for bit), else scaled by the quarters' ratio."""
-    if across != 0.0:
-        return along * ratio
     limit = DEPTH_SLOPE_LIMIT * depth
-    return min(max(along, -limit), limit)
+    clipped = min(max(along, -limit), limit)
+    return clipped if across == 0.0 else along * ratio
 
 
 @njit(cache=True, inline="always")
@@ -197,41 +197,51 @@ def bounded_momentum_slope(depth, momentum, depth_slope, slope, u_min, u_max):
 
 
 @njit(cache=True, error_model="numpy")
-def bound_momenta(w, k, j, depth, slope_x, slope_y, q):
-    """Each momentum's slopes in x and in y bounded by the velocities of the cell and its two
-    neighbours along that direction."""
-    for m in (MOMENTUM, MOMENTUM_Y):
-        if m < 0:
-            continue
-        u_c = velocity_at(w, m, k, j)
-        u_l, u_r = velocity_at(w, m, k, j - 1), velocity_at(w, m, k, j + 1)
-        u_min, u_max = min(min(u_l, u_c), u_r), max(max(u_l, u_c), u_r)
-        slope_x[m] = bounded_momentum_slope(depth, q[m], slope_x[DEPTH], slope_x[m], u_min, u_max)
-        u_l, u_r = velocity_at(w, m, k - 1, j), velocity_at(w, m, k + 1, j)
-        u_min, u_max = min(min(u_l, u_c), u_r), max(max(u_l, u_c), u_r)
-        slope_y[m] = bounded_momentum_slope(depth, q[m], slope_y[DEPTH], slope_y[m], u_min, u_max)
+def depth_rules(w, k, first, count, slots):
+    """The depth rules of :meth:`JiangTadmorReference._limited_slopes` without a bed, on the
+    slopes of the ``count`` padded cells ``(k, first + j)`` in ``slots``: the depth's slopes
+    scaled down together until every quarter keeps half the depth (a slope alone clipped as in
+    1D), each momentum's slopes bounded by the velocities of the cell and its two neighbours
+    along each direction (the VELOCITY rows), every slope 0 in a dry cell. A loop over the row
+    per rule, each of which vectorises.
 
-
-@njit(cache=True, error_model="numpy")
-def depth_rules(w, k, j, slope_x, slope_y, q):
-    """The depth rules of :meth:`JiangTadmorReference._limited_slopes` without a bed: the depth's
-    slopes scaled down together until every quarter keeps half the depth (a slope alone clipped
-    as in 1D), the momentum slopes bounded by the velocities, every slope 0 in a dry cell."""
-    depth = q[DEPTH]
-    if depth <= 0.0:
-        for v in range(NV):
-            slope_x[v] = 0.0
-            slope_y[v] = 0.0
-        return
-    along_x, along_y = slope_x[DEPTH], slope_y[DEPTH]
-    ratio = quarter_ratio(1.0, depth, 0.25 * (-along_x + -along_y))
-    ratio = quarter_ratio(ratio, depth, 0.25 * (along_x + -along_y))
-    ratio = quarter_ratio(ratio, depth, 0.25 * (-along_x + along_y))
-    ratio = quarter_ratio(ratio, depth, 0.25 * (along_x + along_y))
-    slope_x[DEPTH] = limited_depth_slope(along_x, along_y, ratio, depth)
-    slope_y[DEPTH] = limited_depth_slope(along_y, along_x, ratio, depth)
-    if MOMENTUM >= 0:
-        bound_momenta(w, k, j, depth, slope_x, slope_y, q)
+    The reference lowers the ratio quarter by quarter, ``min((h - h/2) / -deviation)`` over the
+    short quarters; division is monotone, so that is the quotient of the lowest quarter alone,
+    bit for bit (one division instead of four)."""
+    depths = w[DEPTH, k, first : first + count]
+    along_x, along_y = slots[SLOPE_X + DEPTH], slots[SLOPE_Y + DEPTH]
+    for j in range(count):
+        depth, slope_x, slope_y = depths[j], along_x[j], along_y[j]
+        lowest = min(
+            min(0.25 * (-slope_x + -slope_y), 0.25 * (slope_x + -slope_y)),
+            min(0.25 * (-slope_x + slope_y), 0.25 * (slope_x + slope_y)),
+        )
+        floor = 0.5 * depth
+        ratio = min(1.0, (depth - floor) / -lowest) if depth + lowest < floor else 1.0
+        along_x[j] = limited_depth_slope(slope_x, slope_y, ratio, depth)
+        along_y[j] = limited_depth_slope(slope_y, slope_x, ratio, depth)
+    for n in range(MOMENTA):
+        m = MOMENTUM if n == 0 else MOMENTUM_Y
+        momenta = w[m, k, first : first + count]
+        momentum_x, momentum_y = slots[SLOPE_X + m], slots[SLOPE_Y + m]
+        below, here = slots[VELOCITY + 3 * n], slots[VELOCITY + 3 * n + 1]
+        above = slots[VELOCITY + 3 * n + 2]
+        for j in range(count):
+            depth, momentum = depths[j], momenta[j]
+            u_c, u_l, u_r = here[j + 1], here[j], here[j + 2]
+            u_min, u_max = min(min(u_l, u_c), u_r), max(max(u_l, u_c), u_r)
+            momentum_x[j] = bounded_momentum_slope(
+                depth, momentum, along_x[j], momentum_x[j], u_min, u_max
+            )
+            u_l, u_r = below[j + 1], above[j + 1]
+            u_min, u_max = min(min(u_l, u_c), u_r), max(max(u_l, u_c), u_r)
+            momentum_y[j] = bounded_momentum_slope(
+                depth, momentum, along_y[j], momentum_y[j], u_min, u_max
+            )
+    for v in range(2 * NV):
+        slopes = slots[SLOPE_X + v]
+        for j in range(count):
+            slopes[j] = 0.0 if depths[j] <= 0.0 else slopes[j]
 
 
 @njit(cache=True, error_model="numpy")
@@ -243,16 +253,30 @@ def raw_slopes(w, k, first, count, params, slots):
         along, across = slots[SLOPE_X + v], slots[SLOPE_Y + v]
         if CUSTOM_SLOPES:
             for j in range(count):
-                c = first + j
-                along[j] = _slope_point(
+                c = col(first + j)
+                along[col(j)] = _slope_point(
                     w[v, k, c - 2], w[v, k, c - 1], w[v, k, c], w[v, k, c + 1], w[v, k, c + 2]
                 )
-                across[j] = _slope_point(
+                across[col(j)] = _slope_point(
                     w[v, k - 2, c], w[v, k - 1, c], w[v, k, c], w[v, k + 1, c], w[v, k + 2, c]
                 )
         else:
             builtin_slopes(code, w[v, k, first - 2 : first + count + 2], count, along)
-            builtin_slopes_across(code, w[v, k - 2 : k + 3, first : first + count], count, across)
+            rows = w[v, k - 2 : k + 3, first : first + count]
+            builtin_slopes_across(code, rows[0], rows[1], rows[2], rows[3], rows[4], count, across)
+
+
+@njit(cache=True, error_model="numpy")
+def row_velocities(w, k, first, count, slots):
+    """The velocities of each momentum in padded rows ``k - 1``, ``k``, ``k + 1`` over columns
+    ``first - 1 .. first + count`` into the VELOCITY rows of ``slots`` (each division in a loop
+    of its own, which vectorises)."""
+    for n in range(MOMENTA):
+        m = MOMENTUM if n == 0 else MOMENTUM_Y
+        for r in range(3):
+            row = slots[VELOCITY + 3 * n + r]
+            for j in range(count + 2):
+                row[col(j)] = velocity_at(w, m, k - 1 + r, first - 1 + j)
 
 
 @njit(cache=True, error_model="numpy")
@@ -263,81 +287,101 @@ def predict_row(w, k, first, count, step, params, slots):
     for p in range(NPARAMS):
         local[p] = params[p]
     raw_slopes(w, k, first, count, params, slots)
+    if DEPTH >= 0:
+        row_velocities(w, k, first, count, slots)
+        depth_rules(w, k, first, count, slots)
     q, aux = local_vector(NV), local_vector(NAUX)
     slope_x, slope_y = local_vector(NV), local_vector(NV)
     jacobian, predicted, out = local_matrix(NV), local_vector(NV), local_vector(NV)
     for a in range(NAUX):
         aux[a] = 0.0
     inverse_dx, inverse_dy, half_dt = 1.0 / step.dx, 1.0 / step.dy, 0.5 * step.dt
+    row = col(k)
     for j in range(count):
+        c, jj = col(first + j), col(j)
         for v in range(NV):
-            q[v] = w[v, k, first + j]
-            slope_x[v] = slots[SLOPE_X + v, j]
-            slope_y[v] = slots[SLOPE_Y + v, j]
-        if DEPTH >= 0:
-            depth_rules(w, k, first + j, slope_x, slope_y, q)
-        for v in range(NV):
-            slots[SLOPE_X + v, j] = slope_x[v]
-            slots[SLOPE_Y + v, j] = slope_y[v]
-            predicted[v] = 0.0
+            q[v] = w[v, row, c]
+            slope_x[v] = slots[SLOPE_X + v, jj]
+            slope_y[v] = slots[SLOPE_Y + v, jj]
         _jacobian_point(q, aux, local, jacobian)
         for r in range(NV):
             total = 0.0
-            for c in range(NV):
-                total += jacobian[r, c] * slope_x[c]
+            for c2 in range(NV):
+                total += jacobian[r, c2] * slope_x[c2]
             predicted[r] = total * inverse_dx
         _jacobian_y_point(q, aux, local, jacobian)
         for r in range(NV):
             total = 0.0
-            for c in range(NV):
-                total += jacobian[r, c] * slope_y[c]
+            for c2 in range(NV):
+                total += jacobian[r, c2] * slope_y[c2]
             predicted[r] = q[r] + half_dt * -(predicted[r] + total * inverse_dy)
         _flux_point(predicted, aux, local, out)
         for v in range(NV):
-            slots[FLUX_X + v, j] = out[v]
+            slots[FLUX_X + v, jj] = out[v]
         _flux_y_point(predicted, aux, local, out)
         for v in range(NV):
-            slots[FLUX_Y + v, j] = out[v]
+            slots[FLUX_Y + v, jj] = out[v]
 
 
 @njit(cache=True, error_model="numpy")
 def average_row(w, out, k, step, params, low, high):
     """New row ``k``: the staggered averages of the corner cells' reconstructions and the
     midpoint-rule fluxes through the half edges (the formula of
-    :mod:`~conslaw.schemes.jiang_tadmor.reference`), then the model's correction."""
+    :mod:`~conslaw.schemes.jiang_tadmor.reference`), a variable at a time over the row, then
+    the model's correction."""
+    lambda_x = 0.5 * (step.dt / step.dx)
+    lambda_y = 0.5 * (step.dt / step.dy)
+    first = col(step.first)
+    for v in range(NV):
+        below, above, target = w[v, step.first + k], w[v, step.first + k + 1], out[v, NG + k]
+        slope_x_low, slope_x_high = low[SLOPE_X + v], high[SLOPE_X + v]
+        slope_y_low, slope_y_high = low[SLOPE_Y + v], high[SLOPE_Y + v]
+        flux_x_low, flux_x_high = low[FLUX_X + v], high[FLUX_X + v]
+        flux_y_low, flux_y_high = low[FLUX_Y + v], high[FLUX_Y + v]
+        for j in range(step.columns):
+            a, b = below[first + j], below[first + j + 1]
+            c, d = above[first + j], above[first + j + 1]
+            xa, xb, xc, xd = (
+                slope_x_low[j],
+                slope_x_low[j + 1],
+                slope_x_high[j],
+                slope_x_high[j + 1],
+            )
+            ya, yb, yc, yd = (
+                slope_y_low[j],
+                slope_y_low[j + 1],
+                slope_y_high[j],
+                slope_y_high[j + 1],
+            )
+            fa, fb, fc, fd = flux_x_low[j], flux_x_low[j + 1], flux_x_high[j], flux_x_high[j + 1]
+            ga, gb, gc, gd = flux_y_low[j], flux_y_low[j + 1], flux_y_high[j], flux_y_high[j + 1]
+            target[col(NG) + j] = (
+                0.25 * ((a + b) + (c + d))
+                + 0.0625 * ((xa - xb) + (xc - xd))
+                + 0.0625 * ((ya - yc) + (yb - yd))
+                - lambda_x * ((fb - fa) + (fd - fc))
+                - lambda_y * ((gc - ga) + (gd - gb))
+            )
+    if HAS_CORRECTION:
+        correct_row(out, k, step, params)
+
+
+@njit(cache=True, error_model="numpy")
+def correct_row(out, k, step, params):
+    """The model's correction of every cell of new row ``k``."""
     local = local_vector(NPARAMS)
     for p in range(NPARAMS):
         local[p] = params[p]
     q, aux = local_vector(NV), local_vector(NAUX)
     for a in range(NAUX):
         aux[a] = 0.0
-    lambda_x = 0.5 * (step.dt / step.dx)
-    lambda_y = 0.5 * (step.dt / step.dy)
-    row = step.first + k
     for j in range(step.columns):
-        c = step.first + j
+        c = col(NG + j)
         for v in range(NV):
-            a, b = w[v, row, c], w[v, row, c + 1]
-            cc, d = w[v, row + 1, c], w[v, row + 1, c + 1]
-            xa, xb = low[SLOPE_X + v, j], low[SLOPE_X + v, j + 1]
-            xc, xd = high[SLOPE_X + v, j], high[SLOPE_X + v, j + 1]
-            ya, yb = low[SLOPE_Y + v, j], low[SLOPE_Y + v, j + 1]
-            yc, yd = high[SLOPE_Y + v, j], high[SLOPE_Y + v, j + 1]
-            fa, fb = low[FLUX_X + v, j], low[FLUX_X + v, j + 1]
-            fc, fd = high[FLUX_X + v, j], high[FLUX_X + v, j + 1]
-            ga, gb = low[FLUX_Y + v, j], low[FLUX_Y + v, j + 1]
-            gc, gd = high[FLUX_Y + v, j], high[FLUX_Y + v, j + 1]
-            q[v] = (
-                0.25 * ((a + b) + (cc + d))
-                + 0.0625 * ((xa - xb) + (xc - xd))
-                + 0.0625 * ((ya - yc) + (yb - yd))
-                - lambda_x * ((fb - fa) + (fd - fc))
-                - lambda_y * ((gc - ga) + (gd - gb))
-            )
-        if HAS_CORRECTION:
-            _correct_point(q, aux, local, step.dt)
+            q[v] = out[v, NG + k, c]
+        _correct_point(q, aux, local, step.dt)
         for v in range(NV):
-            out[v, NG + k, NG + j] = q[v]
+            out[v, NG + k, c] = q[v]
 
 
 @njit(cache=True, error_model="numpy")

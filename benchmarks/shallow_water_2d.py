@@ -1,0 +1,189 @@
+"""2D shallow water: the compiled Jiang–Tadmor kernel against PyClaw classic, interleaved
+(docs/performance.md, "Two dimensions: shallow water against PyClaw classic").
+
+    python benchmarks/shallow_water_2d.py [--sizes 100,250,500,1000,2000] [--pyclaw 250,1000]
+                                          [--json PATH]
+
+The problem is PyClaw's own radial dam break (``clawpack/pyclaw/examples/shallow_2d/
+radial_dam_break.py``): depth 2 inside the circle of radius 0.5, 1 outside, at rest, g = 1, on
+[-2.5, 2.5]^2, outflow on the left and bottom, walls on the right and top. conslaw: the
+Jiang–Tadmor kernel, ``mc``, Courant number 0.45 per direction. PyClaw: ``ClawSolver2D`` with
+``shallow_roe_with_efix_2D``, the MC limiter and the example's splitting (``dimensional_split =
+1``), Fortran, its default Courant number (0.9 desired).
+
+Measured, each the median of ``REPEATS`` solves after a warm-up (compiling), the two codes one
+after the other at each size (A B A B): cell updates per second (cells times time steps over the
+solve time) on one thread, at every size for conslaw (the cost per cell update from 100^2 to
+2000^2) and at the ``--pyclaw`` sizes for both; conslaw on one and on two threads at the largest
+PyClaw size, interleaved; the peak memory that numpy allocates during a run of 10 and of 40
+steps (``tracemalloc``: flat in the number of steps means no allocation per step). Needs ``pip
+install clawpack`` (gfortran) for the PyClaw rows.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import time
+import tracemalloc
+from typing import Any
+
+import numpy as np
+
+from conslaw import registry
+from conslaw.grid2d import Grid2D
+from conslaw.schemes.jiang_tadmor import JiangTadmor
+from conslaw_models.shallow_water_2d import ShallowWater2D
+
+REPEATS = 3
+#: About this many cell updates per timed solve (at least ``MIN_STEPS`` steps).
+TARGET_UPDATES = 2.0e7
+MIN_STEPS = 8
+SIDES = {"left": "outflow", "bottom": "outflow", "right": "wall", "top": "wall"}
+DOMAIN = (-2.5, 2.5)
+
+
+def initial(n: int) -> tuple[Grid2D, np.ndarray]:
+    """The grid of n x n cells and the radial dam at rest."""
+    grid = Grid2D.from_bounds(*DOMAIN, n, *DOMAIN, n)
+    x, y = grid.centres()
+    r = np.sqrt(x[None, :] ** 2 + y[:, None] ** 2)
+    q = np.zeros((3, n, n))
+    q[0] = np.where(r <= 0.5, 2.0, 1.0)
+    return grid, q
+
+
+def end_time(n: int, courant: float) -> float:
+    """An end time of about TARGET_UPDATES cell updates (wave speed about 2.2 at the start)."""
+    steps = max(MIN_STEPS, TARGET_UPDATES / n**2)
+    return steps * courant * (DOMAIN[1] - DOMAIN[0]) / n / 2.2
+
+
+def conslaw_solve(n: int, threads: int, t_end: float) -> tuple[float, int]:
+    """Solve time and steps of the Jiang–Tadmor kernel."""
+    grid, q = initial(n)
+    scheme = JiangTadmor(
+        ShallowWater2D(g=1.0), registry.reconstructors.get("mc"), grid, SIDES, threads=threads
+    )
+    started = time.perf_counter()
+    _, _, steps = scheme.advance(q, 0.0, t_end)
+    return time.perf_counter() - started, steps
+
+
+def pyclaw_solve(n: int, t_end: float) -> tuple[float, int]:
+    """Solve time and steps of PyClaw classic on its radial dam break."""
+    from clawpack import pyclaw, riemann
+
+    solver = pyclaw.ClawSolver2D(riemann.shallow_roe_with_efix_2D)
+    solver.limiters = pyclaw.limiters.tvd.MC
+    solver.dimensional_split = 1
+    solver.kernel_language = "Fortran"
+    solver.bc_lower[0] = solver.bc_lower[1] = pyclaw.BC.extrap
+    solver.bc_upper[0] = solver.bc_upper[1] = pyclaw.BC.wall
+    x = pyclaw.Dimension(*DOMAIN, n, name="x")
+    y = pyclaw.Dimension(*DOMAIN, n, name="y")
+    domain = pyclaw.Domain([x, y])
+    state = pyclaw.State(domain, 3)
+    state.problem_data["grav"] = 1.0
+    _, q = initial(n)
+    state.q[...] = q.transpose(0, 2, 1)  # PyClaw's arrays are (variable, x, y)
+    controller = pyclaw.Controller()
+    controller.solution = pyclaw.Solution(state, domain)
+    controller.solver = solver
+    controller.tfinal = t_end
+    controller.num_output_times = 1
+    controller.output_format = None
+    controller.keep_copy = False
+    controller.verbosity = 0
+    started = time.perf_counter()
+    controller.run()
+    return time.perf_counter() - started, int(solver.status["numsteps"])
+
+
+def median_rate(runs: list[tuple[float, int]], n: int) -> dict[str, Any]:
+    seconds = statistics.median(r[0] for r in runs)
+    steps = runs[0][1]
+    return {"seconds": seconds, "steps": steps, "cell_updates_per_s": n * n * steps / seconds}
+
+
+def interleaved(n: int, solvers: dict[str, Any]) -> dict[str, dict[str, Any]]:
+    """Each solver once to warm up, then REPEATS rounds of all of them in turn (A B A B)."""
+    for solve in solvers.values():
+        solve()
+    runs: dict[str, list[tuple[float, int]]] = {name: [] for name in solvers}
+    for _ in range(REPEATS):
+        for name, solve in solvers.items():
+            runs[name].append(solve())
+    return {name: median_rate(taken, n) for name, taken in runs.items()}
+
+
+def peak_memory(n: int, steps: int) -> int:
+    """Peak bytes numpy allocates while the kernel takes about ``steps`` steps (after the
+    scheme is made)."""
+    grid, q = initial(n)
+    scheme = JiangTadmor(
+        ShallowWater2D(), registry.reconstructors.get("mc"), grid, SIDES, threads=1
+    )
+    t_end = 0.5 * steps * 0.45 * (DOMAIN[1] - DOMAIN[0]) / n / 2.3
+    scheme.advance(q, 0.0, t_end)  # compiled, buffers made
+    tracemalloc.start()
+    _, _, taken = scheme.advance(q, 0.0, 2.0 * t_end)
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    print(f"  memory: {taken} steps at {n}^2, peak {peak / 1e6:.2f} MB allocated by numpy")
+    return peak
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--sizes", default="100,250,500,1000,2000")
+    parser.add_argument("--pyclaw", default="250,1000")
+    parser.add_argument("--json")
+    args = parser.parse_args()
+    sizes = [int(s) for s in args.sizes.split(",")]
+    pyclaw_sizes = [int(s) for s in args.pyclaw.split(",")] if args.pyclaw else []
+    report: dict[str, Any] = {"problem": "PyClaw's radial dam break", "rows": []}
+    for n in sizes:
+        t_end = end_time(n, 0.45)
+        solvers: dict[str, Any] = {"conslaw": lambda n=n, t=t_end: conslaw_solve(n, 1, t)}
+        if n in pyclaw_sizes:
+            solvers["pyclaw"] = lambda n=n, t=t_end: pyclaw_solve(n, t)
+        if n == max(pyclaw_sizes, default=0):
+            solvers["conslaw_2_threads"] = lambda n=n, t=t_end: conslaw_solve(n, 2, t)
+        rates = interleaved(n, solvers)
+        report["rows"].append({"n": n, "t_end": t_end, **rates})
+        line = ", ".join(
+            f"{name} {row['steps']} steps {row['seconds']:.3f} s {row['cell_updates_per_s']:.3e}/s"
+            for name, row in rates.items()
+        )
+        print(f"{n}^2: {line}", flush=True)
+    report["memory"] = {steps: peak_memory(250, steps) for steps in (10, 40)}
+    print_table(report)
+    if args.json:
+        with open(args.json, "w") as handle:
+            json.dump(report, handle, indent=2)
+
+
+def print_table(report: dict[str, Any]) -> None:
+    """The markdown table of docs/performance.md."""
+    rows = report["rows"]
+    base = rows[0]["conslaw"]["cell_updates_per_s"]
+    print("\n| N^2 | conslaw cell updates/s (1 thread) | cost vs 100^2 | PyClaw cell updates/s "
+          "| conslaw/PyClaw | conslaw 2 threads / 1 |")  # fmt: skip
+    print("|---|---|---|---|---|---|")
+    for row in rows:
+        ours = row["conslaw"]["cell_updates_per_s"]
+        theirs = row.get("pyclaw", {}).get("cell_updates_per_s")
+        two = row.get("conslaw_2_threads", {}).get("cell_updates_per_s")
+        print(
+            f"| {row['n']}^2 | {ours:.3e} | {base / ours:.2f} | "
+            f"{f'{theirs:.3e}' if theirs else '-'} | {f'{ours / theirs:.2f}' if theirs else '-'} "
+            f"| {f'{two / ours:.2f}' if two else '-'} |"
+        )
+    memory = report["memory"]
+    print(f"\npeak numpy allocation during 10 / 40 steps at 250^2: {memory[10]} / {memory[40]} B")
+
+
+if __name__ == "__main__":
+    main()
