@@ -118,7 +118,7 @@ def interleaved(n: int, solvers: dict[str, Any]) -> dict[str, dict[str, Any]]:
     return {name: median_rate(taken, n) for name, taken in runs.items()}
 
 
-def peak_memory(n: int, steps: int) -> int:
+def peak_memory(n: int, steps: int) -> dict[str, int]:
     """Peak bytes numpy allocates while the kernel takes about ``steps`` steps (after the
     scheme is made)."""
     grid, q = initial(n)
@@ -132,7 +132,7 @@ def peak_memory(n: int, steps: int) -> int:
     peak = tracemalloc.get_traced_memory()[1]
     tracemalloc.stop()
     print(f"  memory: {taken} steps at {n}^2, peak {peak / 1e6:.2f} MB allocated by numpy")
-    return peak
+    return {"steps": taken, "peak_bytes": peak}
 
 
 def main() -> None:
@@ -158,7 +158,7 @@ def main() -> None:
             for name, row in rates.items()
         )
         print(f"{n}^2: {line}", flush=True)
-    report["memory"] = {steps: peak_memory(250, steps) for steps in (10, 40)}
+    report["memory"] = [peak_memory(250, steps) for steps in (10, 40)]
     print_table(report)
     if args.json:
         with open(args.json, "w") as handle:
@@ -181,8 +181,8 @@ def print_table(report: dict[str, Any]) -> None:
             f"{f'{theirs:.3e}' if theirs else '-'} | {f'{ours / theirs:.2f}' if theirs else '-'} "
             f"| {f'{two / ours:.2f}' if two else '-'} |"
         )
-    memory = report["memory"]
-    print(f"\npeak numpy allocation during 10 / 40 steps at 250^2: {memory[10]} / {memory[40]} B")
+    for row in report["memory"]:
+        print(f"peak numpy allocation during {row['steps']} steps at 250^2: {row['peak_bytes']} B")
 
 
 if __name__ == "__main__":

@@ -262,8 +262,11 @@ def raw_slopes(w, k, first, count, params, slots):
                 )
         else:
             builtin_slopes(code, w[v, k, first - 2 : first + count + 2], count, along)
-            rows = w[v, k - 2 : k + 3, first : first + count]
-            builtin_slopes_across(code, rows[0], rows[1], rows[2], rows[3], rows[4], count, across)
+            stop = first + count
+            builtin_slopes_across(
+                code, w[v, k - 2, first:stop], w[v, k - 1, first:stop], w[v, k, first:stop],
+                w[v, k + 1, first:stop], w[v, k + 2, first:stop], count, across,
+            )  # fmt: skip
 
 
 @njit(cache=True, error_model="numpy")
