@@ -20,7 +20,7 @@ import numpy as np
 
 from conslaw import registry
 from conslaw.grid2d import Grid2D
-from conslaw.schemes.jiang_tadmor import JiangTadmorReference
+from conslaw.schemes.jiang_tadmor import JiangTadmor
 from conslaw_models.shallow_water_2d import ShallowWater2D
 from conslaw_models.shallow_water_exact import DamBreak
 
@@ -78,7 +78,7 @@ def main() -> None:
     for n in (int(c) for c in args.cells.split(",")):
         grid = Grid2D.from_bounds(0.0, PERIOD, n, 0.0, PERIOD, n)
         limiter = registry.reconstructors.get(args.reconstructor)
-        jt = JiangTadmorReference(model, limiter, grid, SIDES)
+        jt = JiangTadmor(model, limiter, grid, SIDES)
         q = exact_averages(grid, 0.0, deep, shallow)
         q, _, steps = jt.advance(q, 0.0, T_END)
         error = float(np.abs(q[0] - exact_averages(grid, T_END, deep, shallow)[0]).sum())

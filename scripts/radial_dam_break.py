@@ -18,7 +18,7 @@ import numpy as np
 
 from conslaw import registry
 from conslaw.grid2d import Grid2D
-from conslaw.schemes.jiang_tadmor import JiangTadmorReference
+from conslaw.schemes.jiang_tadmor import JiangTadmor
 from conslaw_models.shallow_water_2d import ShallowWater2D
 
 SIDES = {"left": "wall", "right": "wall", "bottom": "wall", "top": "wall"}
@@ -32,7 +32,7 @@ def profiles(reconstructor: str, n: int, outside: float) -> tuple[np.ndarray, np
     (``n`` even: the centre is a cell corner)."""
     grid = Grid2D.from_bounds(-1.0, 1.0, n, -1.0, 1.0, n)
     limiter = registry.reconstructors.get(reconstructor)
-    jt = JiangTadmorReference(ShallowWater2D(g=1.0), limiter, grid, SIDES)
+    jt = JiangTadmor(ShallowWater2D(g=1.0), limiter, grid, SIDES)
     x, y = grid.centres()
     q = np.zeros((3, n, n))
     inside = x[None, :] ** 2 + y[:, None] ** 2 < 0.25

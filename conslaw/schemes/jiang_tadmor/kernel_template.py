@@ -39,6 +39,7 @@ from numba import njit, prange
 
 from conslaw.kernelgen.stack import local_matrix, local_vector
 from conslaw.reconstruct.dispatch import builtin_slopes, builtin_slopes_across
+from conslaw.schemes.jiang_tadmor.constants import QUARTER_MARGIN
 from conslaw.schemes.nessyahu_tadmor.constants import DEPTH_SLOPE_LIMIT, THIN_TAIL
 
 # --- bindings ---
@@ -196,14 +197,46 @@ def bounded_momentum_slope(depth, momentum, depth_slope, slope, u_min, u_max):
     return min(max(slope, low), high)
 
 
+@njit(cache=True, inline="always")
+def quarter_outside(depth, momentum, low, high, margin):
+    """Whether a wet quarter of ``depth`` and ``momentum`` has a velocity outside ``[low, high]``
+    widened by ``margin``."""
+    return depth > 0.0 and (momentum < (low - margin) * depth or momentum > (high + margin) * depth)
+
+
+@njit(cache=True, inline="always")
+def quarter_velocity_outside(depth, momentum, along_x, along_y, slope_x, slope_y, low, high):
+    """:func:`conslaw.schemes.jiang_tadmor.reference.quarter_velocity_outside` of one cell
+    without a bed: whether a wet quarter cell's velocity falls outside ``[low, high]``."""
+    margin = QUARTER_MARGIN * max(abs(low), abs(high))
+    lower_left = quarter_outside(
+        depth + 0.25 * (-along_x + -along_y), momentum + 0.25 * (-slope_x + -slope_y), low, high,
+        margin,
+    )  # fmt: skip
+    lower_right = quarter_outside(
+        depth + 0.25 * (along_x + -along_y), momentum + 0.25 * (slope_x + -slope_y), low, high,
+        margin,
+    )  # fmt: skip
+    upper_left = quarter_outside(
+        depth + 0.25 * (-along_x + along_y), momentum + 0.25 * (-slope_x + slope_y), low, high,
+        margin,
+    )  # fmt: skip
+    upper_right = quarter_outside(
+        depth + 0.25 * (along_x + along_y), momentum + 0.25 * (slope_x + slope_y), low, high,
+        margin,
+    )  # fmt: skip
+    return lower_left or lower_right or upper_left or upper_right
+
+
 @njit(cache=True, error_model="numpy")
 def depth_rules(w, k, first, count, slots):
     """The depth rules of :meth:`JiangTadmorReference._limited_slopes` without a bed, on the
     slopes of the ``count`` padded cells ``(k, first + j)`` in ``slots``: the depth's slopes
     scaled down together until every quarter keeps half the depth (a slope alone clipped as in
     1D), each momentum's slopes bounded by the velocities of the cell and its two neighbours
-    along each direction (the VELOCITY rows), every slope 0 in a dry cell. A loop over the row
-    per rule, each of which vectorises.
+    along each direction (the VELOCITY rows), and both of them ``u`` times the depth's where a
+    quarter cell's velocity is still outside the range of the cell and its four neighbours,
+    every slope 0 in a dry cell. A loop over the row per rule, each of which vectorises.
 
     The reference lowers the ratio quarter by quarter, ``min((h - h/2) / -deviation)`` over the
     short quarters; division is monotone, so that is the quotient of the lowest quarter alone,
@@ -229,15 +262,21 @@ def depth_rules(w, k, first, count, slots):
         for j in range(count):
             depth, momentum = depths[j], momenta[j]
             u_c, u_l, u_r = here[j + 1], here[j], here[j + 2]
-            u_min, u_max = min(min(u_l, u_c), u_r), max(max(u_l, u_c), u_r)
-            momentum_x[j] = bounded_momentum_slope(
-                depth, momentum, along_x[j], momentum_x[j], u_min, u_max
+            low_x, high_x = min(min(u_l, u_c), u_r), max(max(u_l, u_c), u_r)
+            slope_x = bounded_momentum_slope(
+                depth, momentum, along_x[j], momentum_x[j], low_x, high_x
             )
             u_l, u_r = below[j + 1], above[j + 1]
-            u_min, u_max = min(min(u_l, u_c), u_r), max(max(u_l, u_c), u_r)
-            momentum_y[j] = bounded_momentum_slope(
-                depth, momentum, along_y[j], momentum_y[j], u_min, u_max
+            low_y, high_y = min(min(u_l, u_c), u_r), max(max(u_l, u_c), u_r)
+            slope_y = bounded_momentum_slope(
+                depth, momentum, along_y[j], momentum_y[j], low_y, high_y
             )
+            outside = quarter_velocity_outside(
+                depth, momentum, along_x[j], along_y[j], slope_x, slope_y,
+                min(low_x, low_y), max(high_x, high_y),
+            )  # fmt: skip
+            momentum_x[j] = u_c * along_x[j] if outside else slope_x
+            momentum_y[j] = u_c * along_y[j] if outside else slope_y
     for v in range(2 * NV):
         slopes = slots[SLOPE_X + v]
         for j in range(count):

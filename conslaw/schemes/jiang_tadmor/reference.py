@@ -74,6 +74,7 @@ from conslaw.schemes.jiang_tadmor.bed import (
     rows_of_quarters,
     still_water_depth,
 )
+from conslaw.schemes.jiang_tadmor.constants import QUARTER_MARGIN
 from conslaw.schemes.nessyahu_tadmor.constants import DEPTH_SLOPE_LIMIT, ROUND_OFF, THIN_TAIL
 
 Array = NDArray[np.float64]
@@ -115,6 +116,37 @@ def _neighbour_range(u: Array, rows: slice, columns: slice, axis: int) -> tuple[
     low = np.minimum(np.minimum(shifted[0], shifted[1]), shifted[2])
     high = np.maximum(np.maximum(shifted[0], shifted[1]), shifted[2])
     return low, high
+
+
+def quarter_velocity_outside(
+    h: Array,
+    momentum: Array,
+    depth_slopes: tuple[Array, Array, Array],
+    momentum_slopes: tuple[Array, Array],
+    low: Array,
+    high: Array,
+) -> Array:
+    """Whether the velocity of a wet quarter cell, ``(m + (sx m' + sy m*)/4) / (h + (sx h' + sy
+    h* + sx sy t)/4)``, falls outside ``[low, high]`` (widened by ``QUARTER_MARGIN``) in any of the
+    four quarters of each cell (``t`` the depth's twist).
+
+    The 1D bound along each direction keeps the velocities at the quarter points *along* it in
+    range, not those of the corner quarters that a staggered 2D cell takes: with independent WENO
+    slopes of depth and momentum in a thin film a corner quarter can hold a velocity far outside
+    (a column collapsing onto a dry bed with ``weno3`` grew velocities of 20 in films of 1e-8,
+    docs/design.md, "Toward two dimensions"). Data that vary along one axis never trip it.
+    """
+    along_x, along_y, twist = depth_slopes
+    momentum_x, momentum_y = momentum_slopes
+    margin = QUARTER_MARGIN * np.maximum(np.abs(low), np.abs(high))
+    outside = np.zeros(h.shape, dtype=bool)
+    for sx, sy in QUARTER_SIGNS:
+        depth = h + 0.25 * (sx * along_x + sy * along_y + (sx * sy) * twist)
+        moment = momentum + 0.25 * (sx * momentum_x + sy * momentum_y)
+        outside |= (depth > 0.0) & (
+            (moment < (low - margin) * depth) | (moment > (high + margin) * depth)
+        )
+    return outside
 
 
 class JiangTadmorReference:
@@ -374,7 +406,7 @@ class JiangTadmorReference:
             return slopes_x, slopes_y, twist
         h = w[self.model.depth_index, rows, columns]
         twist = self._limit_depth_slopes(h, slopes_x, slopes_y, twist, floors)
-        self._bound_momentum_slopes(w, rows, columns, slopes_x, slopes_y)
+        self._bound_momentum_slopes(w, rows, columns, slopes_x, slopes_y, twist)
         return slopes_x, slopes_y, twist
 
     def _limit_depth_slopes(
@@ -444,12 +476,21 @@ class JiangTadmorReference:
         return np.stack(floors)
 
     def _bound_momentum_slopes(
-        self, w: Array, rows: slice, columns: slice, slopes_x: Array, slopes_y: Array
+        self,
+        w: Array,
+        rows: slice,
+        columns: slice,
+        slopes_x: Array,
+        slopes_y: Array,
+        twist: Array | None,
     ) -> None:
         """Each momentum's slope along each direction bounded so that the velocities at the two
         quarter points along it (depths ``h +- h'/4``) stay between the smallest and largest
         velocity of the cell and its two neighbours along it (the 1D
-        ``NessyahuTadmor._bound_momentum_slopes``)."""
+        ``NessyahuTadmor._bound_momentum_slopes``); then, where the velocity of a quarter cell
+        (:func:`quarter_velocity_outside`) still falls outside the range of the cell and its four
+        neighbours, both slopes of that momentum carry the cell's velocity, ``u h'`` and ``u
+        h*`` (docs/design.md, "Toward two dimensions")."""
         model = self.model
         d = model.depth_index
         assert d is not None
@@ -458,14 +499,25 @@ class JiangTadmorReference:
         wet = (depth_all >= dry) & (depth_all > 0.0)
         safe = np.where(wet, depth_all, 1.0)
         h = depth_all[rows, columns]
+        bent = np.zeros_like(h) if twist is None else twist
         for m in (model.momentum_index, model.momentum_y_index):
             if m is None:
                 continue
             u = np.where(wet, w[m] / safe, 0.0)
             q = w[m, rows, columns]
+            ranges = []
             for axis, slopes in ((1, slopes_x), (0, slopes_y)):
                 u_min, u_max = _neighbour_range(u, rows, columns, axis)
+                ranges.append((u_min, u_max))
                 slopes[m] = velocity_bounded_slope(h, q, slopes[d], slopes[m], u_min, u_max)
+            low = np.minimum(ranges[0][0], ranges[1][0])
+            high = np.maximum(ranges[0][1], ranges[1][1])
+            outside = quarter_velocity_outside(
+                h, q, (slopes_x[d], slopes_y[d], bent), (slopes_x[m], slopes_y[m]), low, high
+            )
+            u_here = u[rows, columns]
+            slopes_x[m] = np.where(outside, u_here * slopes_x[d], slopes_x[m])
+            slopes_y[m] = np.where(outside, u_here * slopes_y[d], slopes_y[m])
 
     def _reconstruct(
         self, w: Array, rows: slice, columns: slice, staggered: bool, dt: float
