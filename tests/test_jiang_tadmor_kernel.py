@@ -271,7 +271,7 @@ def test_a_corner_quarter_outside_the_velocity_range_is_found() -> None:
     )[0]
 
 
-@settings(max_examples=200, deadline=None)
+@settings(max_examples=300, deadline=None)
 @given(
     depth=st.floats(1e-9, 10.0),
     depth_slope=st.floats(-1.0, 1.0),

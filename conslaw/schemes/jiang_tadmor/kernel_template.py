@@ -39,7 +39,7 @@ from numba import njit, prange
 
 from conslaw.kernelgen.stack import local_matrix, local_vector
 from conslaw.reconstruct.dispatch import builtin_slopes, builtin_slopes_across
-from conslaw.schemes.jiang_tadmor.constants import QUARTER_MARGIN
+from conslaw.schemes.jiang_tadmor.constants import QUARTER_MARGIN, TINY
 from conslaw.schemes.nessyahu_tadmor.constants import DEPTH_SLOPE_LIMIT, THIN_TAIL
 
 # --- bindings ---
@@ -80,10 +80,12 @@ WORK_ROWS = 4 * NV + 3 * MOMENTA
 PERIODIC = 0
 OUTFLOW = 1
 WALL = 2
-#: Columns of the per-row statistics: largest wave speed in x, in y, smallest depth.
+#: Columns of the per-row statistics: largest wave speed in x, in y, smallest and largest depth.
 SPEED_X = 0
 SPEED_Y = 1
 LOWEST = 2
+DEEPEST = 3
+STATISTICS = 4
 #: Index of the reconstructor's code in the parameter vector.
 SLOPE_CODE = NPARAMS
 
@@ -101,7 +103,8 @@ class Sides(NamedTuple):
 class Step(NamedTuple):
     """What one step reads besides the states: the first padded source row and column
     (``NG - 1`` from the primary family, ``NG`` from the staggered), the new family's rows and
-    columns, the time step and the cell widths."""
+    columns, the time step, the cell widths and the largest depth of the source family (no new
+    cell shallower than ``THIN_TAIL`` times it is a thin tail, :func:`bound_tails`)."""
 
     first: int
     rows: int
@@ -109,6 +112,7 @@ class Step(NamedTuple):
     dt: float
     dx: float
     dy: float
+    deepest: float
 
 
 def work_shape(chunks, columns):
@@ -198,32 +202,33 @@ def bounded_momentum_slope(depth, momentum, depth_slope, slope, u_min, u_max):
 
 
 @njit(cache=True, inline="always")
-def quarter_outside(depth, momentum, low, high, margin):
+def quarter_outside(depth, momentum, low, high, largest):
     """Whether a wet quarter of ``depth`` and ``momentum`` has a velocity outside ``[low, high]``
-    widened by ``margin``."""
-    return depth > 0.0 and (momentum < (low - margin) * depth or momentum > (high + margin) * depth)
+    by more than ``largest`` times its depth plus ``TINY`` (as momenta)."""
+    slack = largest * depth + TINY
+    return depth > 0.0 and (momentum < low * depth - slack or momentum > high * depth + slack)
 
 
 @njit(cache=True, inline="always")
 def quarter_velocity_outside(depth, momentum, along_x, along_y, slope_x, slope_y, low, high):
     """:func:`conslaw.schemes.jiang_tadmor.reference.quarter_velocity_outside` of one cell
     without a bed: whether a wet quarter cell's velocity falls outside ``[low, high]``."""
-    margin = QUARTER_MARGIN * max(abs(low), abs(high))
+    largest = QUARTER_MARGIN * max(abs(low), abs(high))
     lower_left = quarter_outside(
         depth + 0.25 * (-along_x + -along_y), momentum + 0.25 * (-slope_x + -slope_y), low, high,
-        margin,
+        largest,
     )  # fmt: skip
     lower_right = quarter_outside(
         depth + 0.25 * (along_x + -along_y), momentum + 0.25 * (slope_x + -slope_y), low, high,
-        margin,
+        largest,
     )  # fmt: skip
     upper_left = quarter_outside(
         depth + 0.25 * (-along_x + along_y), momentum + 0.25 * (-slope_x + slope_y), low, high,
-        margin,
+        largest,
     )  # fmt: skip
     upper_right = quarter_outside(
         depth + 0.25 * (along_x + along_y), momentum + 0.25 * (slope_x + slope_y), low, high,
-        margin,
+        largest,
     )  # fmt: skip
     return lower_left or lower_right or upper_left or upper_right
 
@@ -456,9 +461,12 @@ def bound_tails(w, out, k, step, params):
     than ``THIN_TAIL`` times the deepest of the 4 x 4 cells its update reads keeps each velocity
     between their smallest ``u - 2c`` and largest ``u + 2c``."""
     row = step.first + k - 1
+    bound = THIN_TAIL * step.deepest
     for j in range(step.columns):
         depth = out[DEPTH, NG + k, NG + j]
-        if not (depth >= DRY_DEPTH and depth > 0.0):
+        # Deeper than THIN_TAIL times the deepest cell anywhere: not a thin tail (the 4 x 4
+        # window below is read only where it may be).
+        if not (depth >= DRY_DEPTH and depth > 0.0 and depth < bound):
             continue
         c = step.first + j - 1
         deepest = -np.inf
@@ -480,12 +488,12 @@ def bound_tails(w, out, k, step, params):
 
 @njit(cache=True, error_model="numpy")
 def row_statistics(out, k, columns, params, statistics):
-    """Largest wave speeds in x and y and smallest depth of padded row ``NG + k`` (NaN if a
-    value is NaN) into ``statistics[k]``."""
+    """Largest wave speeds in x and y, smallest and largest depth of padded row ``NG + k`` (NaN
+    if a value is NaN) into ``statistics[k]``."""
     q, aux = local_vector(NV), local_vector(NAUX)
     for a in range(NAUX):
         aux[a] = 0.0
-    speed_x, speed_y, lowest, finite = 0.0, 0.0, np.inf, True
+    speed_x, speed_y, lowest, deepest, finite = 0.0, 0.0, np.inf, -np.inf, True
     for j in range(columns):
         for v in range(NV):
             q[v] = out[v, NG + k, NG + j]
@@ -496,12 +504,14 @@ def row_statistics(out, k, columns, params, statistics):
         finite = finite and along_x == along_x and along_y == along_y
         if DEPTH >= 0:
             lowest = min(lowest, q[DEPTH])
+            deepest = max(deepest, q[DEPTH])
             finite = finite and q[DEPTH] == q[DEPTH]
     if not finite:
         speed_x, speed_y, lowest = np.nan, np.nan, np.nan
     statistics[k, SPEED_X] = speed_x
     statistics[k, SPEED_Y] = speed_y
     statistics[k, LOWEST] = lowest
+    statistics[k, DEEPEST] = deepest
 
 
 @njit(cache=True, parallel=True, error_model="numpy")

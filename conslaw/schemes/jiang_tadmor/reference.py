@@ -74,7 +74,7 @@ from conslaw.schemes.jiang_tadmor.bed import (
     rows_of_quarters,
     still_water_depth,
 )
-from conslaw.schemes.jiang_tadmor.constants import QUARTER_MARGIN
+from conslaw.schemes.jiang_tadmor.constants import QUARTER_MARGIN, TINY
 from conslaw.schemes.nessyahu_tadmor.constants import DEPTH_SLOPE_LIMIT, ROUND_OFF, THIN_TAIL
 
 Array = NDArray[np.float64]
@@ -127,8 +127,10 @@ def quarter_velocity_outside(
     high: Array,
 ) -> Array:
     """Whether the velocity of a wet quarter cell, ``(m + (sx m' + sy m*)/4) / (h + (sx h' + sy
-    h* + sx sy t)/4)``, falls outside ``[low, high]`` (widened by ``QUARTER_MARGIN``) in any of the
-    four quarters of each cell (``t`` the depth's twist).
+    h* + sx sy t)/4)``, falls outside ``[low, high]`` in any of the four quarters of each cell
+    (``t`` the depth's twist), compared as momenta: outside by more than ``QUARTER_MARGIN`` times
+    the depth and the largest velocity of the range, plus the smallest normal number (below it a
+    momentum has lost its relative precision: velocities of 1e-308 in a depth of 1e-9).
 
     The 1D bound along each direction keeps the velocities at the quarter points *along* it in
     range, not those of the corner quarters that a staggered 2D cell takes: with independent WENO
@@ -138,13 +140,14 @@ def quarter_velocity_outside(
     """
     along_x, along_y, twist = depth_slopes
     momentum_x, momentum_y = momentum_slopes
-    margin = QUARTER_MARGIN * np.maximum(np.abs(low), np.abs(high))
+    largest = QUARTER_MARGIN * np.maximum(np.abs(low), np.abs(high))
     outside = np.zeros(h.shape, dtype=bool)
     for sx, sy in QUARTER_SIGNS:
         depth = h + 0.25 * (sx * along_x + sy * along_y + (sx * sy) * twist)
         moment = momentum + 0.25 * (sx * momentum_x + sy * momentum_y)
+        slack = largest * depth + TINY
         outside |= (depth > 0.0) & (
-            (moment < (low - margin) * depth) | (moment > (high + margin) * depth)
+            (moment < low * depth - slack) | (moment > high * depth + slack)
         )
     return outside
 

@@ -106,7 +106,10 @@ class JiangTadmor:
             s: (nv, rows + 2 * GHOSTS, cols + 2 * GHOSTS) for s, (rows, cols) in shapes.items()
         }
         self.states = [np.zeros(padded[False]), np.zeros(padded[True]), np.zeros(padded[False])]
-        self.statistics = [np.zeros((shapes[s][0], 3)) for s in (False, True, False)]
+        columns_of_statistics = self.kernels.STATISTICS
+        self.statistics = [
+            np.zeros((shapes[s][0], columns_of_statistics)) for s in (False, True, False)
+        ]
         kinds = np.array([KINDS.index(boundaries[side]) for side in SIDES], dtype=np.int64)
         signs_x = np.asarray(model.reflect_signs, dtype=np.float64)
         signs_y = np.asarray(model.reflect_signs_y or model.reflect_signs, dtype=np.float64)
@@ -132,6 +135,10 @@ class JiangTadmor:
         rows, columns = self.shapes[staggered]
         self.states[source][:, GHOSTS : GHOSTS + rows, GHOSTS : GHOSTS + columns] = q
         self.kernels.fill_ghosts(self.states[source], rows, columns, staggered, self.sides)
+        numba.set_num_threads(self.threads)
+        self.kernels.family_statistics(
+            self.states[source], rows, columns, self.params, self.statistics[source]
+        )
         self._step(source, target, staggered, dt)
         rows, columns = self.shapes[not staggered]
         return self.states[target][:, GHOSTS : GHOSTS + rows, GHOSTS : GHOSTS + columns].copy()
@@ -156,7 +163,8 @@ class JiangTadmor:
         kernels = self.kernels
         rows, columns = self.shapes[not staggered]
         first = GHOSTS if staggered else GHOSTS - 1
-        step = kernels.Step(first, rows, columns, dt, self.grid.dx, self.grid.dy)
+        deepest = float(np.max(self.statistics[source][:, kernels.DEEPEST]))
+        step = kernels.Step(first, rows, columns, dt, self.grid.dx, self.grid.dy, deepest)
         statistics = self.statistics[target]
         numba.set_num_threads(self.threads)
         kernels.step_family(
