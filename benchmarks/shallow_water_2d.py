@@ -2,7 +2,7 @@
 (docs/performance.md, "Two dimensions: shallow water against PyClaw classic").
 
     python benchmarks/shallow_water_2d.py [--sizes 100,250,500,1000,2000] [--pyclaw 250,1000]
-                                          [--json PATH]
+                                          [--updates 1e8] [--json PATH]
 
 The problem is PyClaw's own radial dam break (``clawpack/pyclaw/examples/shallow_2d/
 radial_dam_break.py``): depth 2 inside the circle of radius 0.5, 1 outside, at rest, g = 1, on
@@ -11,14 +11,19 @@ Jiang–Tadmor kernel, ``mc``, Courant number 0.45 per direction. PyClaw: ``Claw
 ``shallow_roe_with_efix_2D``, the MC limiter and the example's splitting (``dimensional_split =
 1``), Fortran, its default Courant number (0.9 desired).
 
-Measured, each the median of ``REPEATS`` solves after a warm-up (compiling), the two codes one
-after the other at each size (A B A B): cell updates per second (cells times time steps over the
-solve time) on one thread, at every size for conslaw (the cost per cell update from 100^2 to
-2000^2) and at the ``--pyclaw`` sizes for both; conslaw on one and on two threads at the largest
-PyClaw size, interleaved; the peak memory that numpy allocates during a run of 10 and of 40
-steps (``tracemalloc``: flat in the number of steps means no allocation per step). A child
-process compiles the kernel into the cache first. Needs ``pip install clawpack`` (gfortran) for
-the PyClaw rows.
+Both codes run to the end time of ``--updates`` cell updates (at least ``MIN_STEPS`` steps) at a
+wave speed of 2.2 (:func:`end_time`); the largest speed of the dam at the start is sqrt(g h) =
+sqrt(2), so a conslaw solve takes fewer updates than that, and PyClaw, at twice the Courant number,
+about half as many (the JSON records the steps). Measured, each the median of ``REPEATS`` solves
+after a warm-up (compiling), the two codes one after the other at each size (A B A B): cell updates
+per second (cells times time steps over the solve time) on one thread, at every size for conslaw
+(the cost per cell update from 100^2 to 2000^2) and at the ``--pyclaw`` sizes for both; conslaw on
+one and on two threads at the largest PyClaw size, interleaved; the peak memory that numpy
+allocates during two runs at 250^2 (``tracemalloc``), to the time of 10 and of 40 steps at a wave
+speed of 2.3 (:func:`peak_memory`; fewer steps at the dam's speeds): flat in the number of steps
+means no allocation per step. A child process compiles the kernel into the cache first.
+Needs ``pip install clawpack`` (gfortran) for the PyClaw rows; ``--pyclaw ""`` leaves them out
+(with small ``--sizes`` and ``--updates``, a quick check that the script runs).
 """
 
 from __future__ import annotations
@@ -40,7 +45,8 @@ from conslaw.schemes.jiang_tadmor import JiangTadmor
 from conslaw_models.shallow_water_2d import ShallowWater2D
 
 REPEATS = 3
-#: About this many cell updates per timed solve (at least ``MIN_STEPS`` steps).
+#: Cell updates per timed solve at the wave speed :func:`end_time` assumes (default of
+#: ``--updates``); at least ``MIN_STEPS`` steps.
 TARGET_UPDATES = 1.0e8
 MIN_STEPS = 8
 SIDES = {"left": "outflow", "bottom": "outflow", "right": "wall", "top": "wall"}
@@ -48,7 +54,21 @@ DOMAIN = (-2.5, 2.5)
 
 
 def initial(n: int) -> tuple[Grid2D, np.ndarray]:
-    """The grid of n x n cells and the radial dam at rest."""
+    """The radial dam at rest.
+
+    Parameters
+    ----------
+    n : int
+        Cells along each side.
+
+    Returns
+    -------
+    grid : Grid2D
+        ``n`` x ``n`` cells over ``DOMAIN`` squared.
+    q : ndarray
+        ``(h, hu, hv)``, shape ``(3, n, n)``: depth 2 inside the circle of radius 0.5, 1
+        outside, at rest.
+    """
     grid = Grid2D.from_bounds(*DOMAIN, n, *DOMAIN, n)
     x, y = grid.centres()
     r = np.sqrt(x[None, :] ** 2 + y[:, None] ** 2)
@@ -57,14 +77,47 @@ def initial(n: int) -> tuple[Grid2D, np.ndarray]:
     return grid, q
 
 
-def end_time(n: int, courant: float) -> float:
-    """An end time of about TARGET_UPDATES cell updates (wave speed about 2.2 at the start)."""
-    steps = max(MIN_STEPS, TARGET_UPDATES / n**2)
+def end_time(n: int, courant: float, updates: float = TARGET_UPDATES) -> float:
+    """The end time of ``updates`` cell updates if every step were ``courant dx / 2.2``.
+
+    Parameters
+    ----------
+    n : int
+        Cells along each side.
+    courant : float
+        Courant number per step.
+    updates : float
+        Cell updates (at least ``MIN_STEPS`` steps).
+
+    Returns
+    -------
+    float
+        ``max(MIN_STEPS, updates / n^2) courant dx / 2.2``. The dam's largest wave speed at the
+        start is sqrt(g h) = sqrt(2), not 2.2, so a run takes fewer steps than that.
+    """
+    steps = max(MIN_STEPS, updates / n**2)
     return steps * courant * (DOMAIN[1] - DOMAIN[0]) / n / 2.2
 
 
 def conslaw_solve(n: int, threads: int, t_end: float) -> tuple[float, int]:
-    """Solve time and steps of the Jiang–Tadmor kernel."""
+    """The Jiang–Tadmor kernel on the radial dam break.
+
+    Parameters
+    ----------
+    n : int
+        Cells along each side.
+    threads : int
+        Threads of the kernel.
+    t_end : float
+        End time.
+
+    Returns
+    -------
+    seconds : float
+        Solve time (the scheme made before the clock starts).
+    steps : int
+        Time steps taken.
+    """
     grid, q = initial(n)
     scheme = JiangTadmor(
         ShallowWater2D(g=1.0), registry.reconstructors.get("mc"), grid, SIDES, threads=threads
@@ -75,7 +128,22 @@ def conslaw_solve(n: int, threads: int, t_end: float) -> tuple[float, int]:
 
 
 def pyclaw_solve(n: int, t_end: float) -> tuple[float, int]:
-    """Solve time and steps of PyClaw classic on its radial dam break."""
+    """PyClaw classic on its radial dam break.
+
+    Parameters
+    ----------
+    n : int
+        Cells along each side.
+    t_end : float
+        End time.
+
+    Returns
+    -------
+    seconds : float
+        Solve time (``Controller.run``).
+    steps : int
+        Time steps taken.
+    """
     from clawpack import pyclaw, riemann
 
     solver = pyclaw.ClawSolver2D(riemann.shallow_roe_with_efix_2D)
@@ -105,13 +173,40 @@ def pyclaw_solve(n: int, t_end: float) -> tuple[float, int]:
 
 
 def median_rate(runs: list[tuple[float, int]], n: int) -> dict[str, Any]:
+    """The median solve of repeated runs and its rate.
+
+    Parameters
+    ----------
+    runs : list of (float, int)
+        Solve time and steps of each run (the same steps in each).
+    n : int
+        Cells along each side.
+
+    Returns
+    -------
+    dict
+        ``seconds`` (the median), ``steps`` and ``cell_updates_per_s``, ``n^2 steps / seconds``.
+    """
     seconds = statistics.median(r[0] for r in runs)
     steps = runs[0][1]
     return {"seconds": seconds, "steps": steps, "cell_updates_per_s": n * n * steps / seconds}
 
 
 def interleaved(n: int, solvers: dict[str, Any]) -> dict[str, dict[str, Any]]:
-    """Each solver once to warm up, then REPEATS rounds of all of them in turn (A B A B)."""
+    """Each solver once to warm up, then ``REPEATS`` rounds of all of them in turn (A B A B).
+
+    Parameters
+    ----------
+    n : int
+        Cells along each side.
+    solvers : dict
+        Name -> a function of no argument returning ``(seconds, steps)``.
+
+    Returns
+    -------
+    dict
+        Name -> :func:`median_rate` of its runs.
+    """
     for solve in solvers.values():
         solve()
     runs: dict[str, list[tuple[float, int]]] = {name: [] for name in solvers}
@@ -122,8 +217,21 @@ def interleaved(n: int, solvers: dict[str, Any]) -> dict[str, dict[str, Any]]:
 
 
 def peak_memory(n: int, steps: int) -> dict[str, int]:
-    """Peak bytes numpy allocates while the kernel takes about ``steps`` steps (after the
-    scheme is made)."""
+    """Peak bytes numpy allocates during a run of the kernel (after the scheme is made and a
+    first run), to the time ``steps`` steps would reach at a wave speed of 2.3.
+
+    Parameters
+    ----------
+    n : int
+        Cells along each side.
+    steps : int
+        Steps at a wave speed of 2.3; the dam's speeds are lower, so the run takes fewer.
+
+    Returns
+    -------
+    dict
+        ``steps`` (the steps taken) and ``peak_bytes`` (``tracemalloc``'s peak).
+    """
     grid, q = initial(n)
     scheme = JiangTadmor(
         ShallowWater2D(), registry.reconstructors.get("mc"), grid, SIDES, threads=1
@@ -146,9 +254,12 @@ def warm_kernels() -> None:
 
 
 def main() -> None:
+    """Measure and print the table of docs/performance.md (the command line is in the module's
+    docstring); with ``--json PATH``, write every number to ``PATH``."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", default="100,250,500,1000,2000")
     parser.add_argument("--pyclaw", default="250,1000")
+    parser.add_argument("--updates", type=float, default=TARGET_UPDATES)
     parser.add_argument("--json")
     parser.add_argument("--warm-kernels", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args()
@@ -160,7 +271,7 @@ def main() -> None:
     pyclaw_sizes = [int(s) for s in args.pyclaw.split(",")] if args.pyclaw else []
     report: dict[str, Any] = {"problem": "PyClaw's radial dam break", "rows": []}
     for n in sizes:
-        t_end = end_time(n, 0.45)
+        t_end = end_time(n, 0.45, args.updates)
         solvers: dict[str, Any] = {"conslaw": lambda n=n, t=t_end: conslaw_solve(n, 1, t)}
         if n in pyclaw_sizes:
             solvers["pyclaw"] = lambda n=n, t=t_end: pyclaw_solve(n, t)
@@ -181,7 +292,13 @@ def main() -> None:
 
 
 def print_table(report: dict[str, Any]) -> None:
-    """The markdown table of docs/performance.md."""
+    """Print the markdown table of docs/performance.md and the memory rows.
+
+    Parameters
+    ----------
+    report : dict
+        What :func:`main` measured (the JSON's content).
+    """
     rows = report["rows"]
     base = rows[0]["conslaw"]["cell_updates_per_s"]
     print("\n| N^2 | conslaw cell updates/s (1 thread) | cost vs 100^2 | PyClaw cell updates/s "

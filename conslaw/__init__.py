@@ -12,6 +12,7 @@ from conslaw.errors import ConfigError, ConslawError, InadmissibleStateError, Sc
 from conslaw.grid import Grid
 from conslaw.model import Model
 from conslaw.simulation import RunResult, run, simulate
+from conslaw.simulation2d import run_2d
 from conslaw.state import State
 
 __version__ = "0.1.0"
@@ -28,5 +29,6 @@ __all__ = [
     "State",
     "load_scene",
     "run",
+    "run_2d",
     "simulate",
 ]

@@ -11,7 +11,7 @@ import functools
 import sys
 import time
 import warnings
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, NoReturn
 
@@ -20,6 +20,7 @@ from conslaw.errors import ConslawError
 if TYPE_CHECKING:
     from conslaw.config import Scene
     from conslaw.io import RunWriter
+    from conslaw.scene2d import Scene2D
     from conslaw.simulation import RunResult
 
 EXIT_INPUT = 2
@@ -48,37 +49,44 @@ def _overrides(pairs: Sequence[str]) -> dict[str, Any]:
 def _command_list(args: argparse.Namespace) -> int:
     from conslaw import registry
     from conslaw.initial import INITIAL_KINDS
+    from conslaw.initial2d import INITIAL_KINDS_2D
 
     sections: list[tuple[str, registry.Registry[Any]]] = [
         ("models", registry.models),
         ("schemes", registry.schemes),
+        ("schemes_2d", registry.schemes_2d),
         ("reconstructors", registry.reconstructors),
         ("boundaries", registry.boundaries),
         ("scenes", registry.scenes),
     ]
-    titles = {"boundaries": "boundary conditions"}
+    titles = {"boundaries": "boundary conditions", "schemes_2d": "2D schemes"}
     for kind, entries in sections:
         names = entries.names()
         print(f"{titles.get(kind, kind)} ({len(names)}):")
         for name in names:
             print(f"  {name:<20} {registry.description_of(kind, name)}")
-    own = [
-        (kind, f"{description} ({model_name} only)")
-        for model_name in registry.models.names()
-        for kind, (_, _, description) in registry.models.get(model_name).initial_kinds.items()
-    ]
-    print(f"initial conditions ({len(INITIAL_KINDS) + len(own)}):")
-    for name, description in [*((k, v[2]) for k, v in INITIAL_KINDS.items()), *own]:
-        print(f"  {name:<20} {description}")
+    for title, generic, two_d in (
+        ("initial conditions", INITIAL_KINDS, False),
+        ("initial conditions of 2D scenes", INITIAL_KINDS_2D, True),
+    ):
+        own = [
+            (kind, f"{description} ({model_name} only)")
+            for model_name in registry.models.names()
+            if (registry.models.get(model_name).flux_y_point is not None) == two_d
+            for kind, (_, _, description) in registry.models.get(model_name).initial_kinds.items()
+        ]
+        print(f"{title} ({len(generic) + len(own)}):")
+        for name, description in [*((k, v[2]) for k, v in generic.items()), *own]:
+            print(f"  {name:<20} {description}")
     return 0
 
 
 def _command_show(args: argparse.Namespace) -> int:
     import tomli_w
 
-    from conslaw.config import load_scene
+    from conslaw.scene2d import load_any_scene
 
-    scene = load_scene(args.scene, _overrides(args.set))
+    scene = load_any_scene(args.scene, _overrides(args.set))
     sys.stdout.write(tomli_w.dumps(scene.to_table()))
     return 0
 
@@ -113,34 +121,55 @@ class _ProgressBar:
 
 
 def _command_run(args: argparse.Namespace) -> int:
-    from conslaw.config import load_scene
+    from dataclasses import replace
+
     from conslaw.figure_worker import FigureWorker, write_figures
     from conslaw.io import RunWriter, check_output_dir
+    from conslaw.scene2d import Scene2D, load_any_scene
 
-    scene = load_scene(args.scene, _overrides(args.set))
+    loaded = load_any_scene(args.scene, _overrides(args.set))
     if args.no_plot:
-        from dataclasses import replace
-
-        scene = replace(scene, plot=False)
-    out = _out_folder(args.out, Path("conslaw-output") / scene.name)
+        loaded = replace(loaded, plot=False)
+    out = _out_folder(args.out, Path("conslaw-output") / loaded.name)
     check_output_dir(out)
+    if isinstance(loaded, Scene2D):
+        from conslaw.output.writer2d import RunWriter2D
+        from conslaw.plotting2d import write_figures_2d
+        from conslaw.simulation2d import simulate_2d
+
+        writer_2d = RunWriter2D(out, loaded, write_figures_2d)
+        try:
+            writer_2d.claim()
+            return _run_scene(loaded, out, writer_2d, simulate_2d, _print_summary_2d)
+        finally:
+            writer_2d.release()
+    from conslaw.simulation import simulate
+
+    scene = loaded
     # Fork the figure child before the kernels load (matplotlib's import overlaps the solve).
     worker = FigureWorker.start() if scene.plot else None
     writer = RunWriter(out, scene, functools.partial(write_figures, worker=worker))
     try:
         writer.claim()
-        return _run_scene(scene, out, writer)
+        return _run_scene(scene, out, writer, simulate, _print_summary)
     finally:
         writer.release()
         if worker is not None:
             worker.close()
 
 
-def _run_scene(scene: Scene, out: Path, writer: RunWriter) -> int:
-    """Run ``scene`` writing through ``writer``; the exit code (see :func:`_command_run`)."""
+def _run_scene(
+    scene: Any,
+    out: Path,
+    writer: RunWriter,
+    simulate: Callable[..., Any],
+    summary: Callable[[Any, Any], None],
+) -> int:
+    """Run ``scene`` by ``simulate`` (:func:`conslaw.simulation.simulate` or
+    :func:`conslaw.simulation2d.simulate_2d`) writing through ``writer``, then print
+    ``summary(scene, result)``; the exit code (see :func:`_command_run`)."""
     from conslaw import signals
-    from conslaw.errors import ConslawError, RunInterrupted
-    from conslaw.simulation import simulate
+    from conslaw.errors import RunInterrupted
 
     bar = _ProgressBar(scene.t_end)
     latch = signals.SignalLatch()
@@ -149,7 +178,7 @@ def _run_scene(scene: Scene, out: Path, writer: RunWriter) -> int:
         latch.check()
         bar(t, steps)
 
-    def on_output(result: RunResult) -> None:
+    def on_output(result: Any) -> None:
         writer(result)
         latch.check()
 
@@ -184,19 +213,19 @@ def _run_scene(scene: Scene, out: Path, writer: RunWriter) -> int:
             f"t={result.final.t:g} ({result.steps} steps); every output is complete in {out}\n"
         )
         return 130
-    _print_summary(scene, result)
+    summary(scene, result)
     for path in files:
         print(f"  wrote {path}")
     return 0
 
 
-def _print_summary(scene: Scene, result: RunResult) -> None:
-    """What a finished run prints before the files it wrote: the solve, the errors against the
-    exact solution, the change of the conserved totals, whether the material is at rest."""
+def _print_solve_and_errors(scene: Any, result: Any, reconstructor: str, cells: str) -> None:
+    """The first lines of a run's summary: what ran and how long, then the error against the
+    exact cell averages at every output time (or why there is no comparison)."""
     print(
-        f"{scene.name}: {scene.model}, {scene.scheme}, {scene.reconstructor_label}, "
-        f"N={scene.n_cells}, t={result.final.t:g}, {result.steps} steps, "
-        f"solve {result.solve_seconds:.3f} s (compile or cache load {result.compile_seconds:.2f} s)"
+        f"{scene.name}: {scene.model}, {scene.scheme}, {reconstructor}, {cells}, "
+        f"t={result.final.t:g}, {result.steps} steps, solve {result.solve_seconds:.3f} s "
+        f"(compile or cache load {result.compile_seconds:.2f} s)"
     )
     for state, error in zip(result.states, result.errors, strict=True):
         if error is not None:
@@ -206,6 +235,40 @@ def _print_summary(scene: Scene, result: RunResult) -> None:
             )
     if result.exact_solution is None and scene.exact:
         print(f"  no comparison with an exact solution: {result.exact_note}")
+
+
+def _print_summary_2d(scene: Scene2D, result: Any) -> None:
+    """What a finished 2D run prints: the solve, the errors against the exact solution, the
+    change of the conserved totals."""
+    cells = f"{scene.nx} x {scene.ny} cells"
+    _print_solve_and_errors(scene, result, scene.reconstructor, cells)
+    closed = set(scene.boundaries.values()) <= {"periodic", "wall"}
+    where = (
+        "closed domain: round-off only"
+        if closed
+        else "open boundaries: what flowed in or out, not a conservation error"
+    )
+    model = result.model
+    rows = model.conserved_rows()
+    if "wall" in scene.boundaries.values() and model.depth_index is not None:
+        rows = (model.depth_index,)  # a wall pushes on the momentum
+    drift = ", ".join(f"{model.variables[v]} {result.mass_drift[v]:+.2e}" for v in rows)
+    if drift:
+        print(f"  relative change of conserved totals from t=0 ({where}): {drift}")
+    lowest = min(float(state.q[0].min()) for state in result.states)
+    print(f"  smallest {result.model.variables[0]} at the outputs: {lowest:.3g}")
+    momenta = [v for v in (model.momentum_index, model.momentum_y_index) if v is not None]
+    if momenta:
+        largest = ", ".join(
+            f"|{model.variables[v]}| {float(abs(result.final.q[v]).max()):.2e}" for v in momenta
+        )
+        print(f"  largest momenta at t={result.final.t:g}: {largest}")
+
+
+def _print_summary(scene: Scene, result: RunResult) -> None:
+    """What a finished run prints before the files it wrote: the solve, the errors against the
+    exact solution, the change of the conserved totals, whether the material is at rest."""
+    _print_solve_and_errors(scene, result, scene.reconstructor_label, f"N={scene.n_cells}")
     rows = result.model.conserved_rows()
     if rows:
         import numpy as np

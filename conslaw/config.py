@@ -105,6 +105,20 @@ class BoundarySide:
         return {"kind": self.kind, **self.options} if self.options else self.kind
 
 
+def scene_model(
+    name: str,
+    parameters: Mapping[str, Any],
+    validated: tuple[Mapping[str, Any], Model] | None,
+) -> Model:
+    """The model ``name`` with ``parameters``: ``validated``'s, if it was built from exactly
+    this ``parameters`` object, else a new one (which validates its parameters)."""
+    if validated is not None:
+        built_from, model = validated
+        if built_from is parameters and model.name == name:
+            return model
+    return registry.models.get(name)(**parameters)
+
+
 @dataclass(frozen=True)
 class Scene:
     """A validated scene: everything a run needs, with defaults filled in."""
@@ -142,11 +156,7 @@ class Scene:
         """The scene's model: the one validation built, if the scene still has the parameters
         it was built from (a scene made with ``dataclasses.replace(scene, parameters=...)`` has
         others and gets a new one), else a new one (which validates its parameters)."""
-        if self.validated_model is not None:
-            parameters, model = self.validated_model
-            if parameters is self.parameters and model.name == self.model:
-                return model
-        return registry.models.get(self.model)(**self.parameters)
+        return scene_model(self.model, self.parameters, self.validated_model)
 
     @property
     def scheme_label(self) -> str:
@@ -284,18 +294,25 @@ def scene_text(data: bytes, what: str) -> str:
         ) from None
 
 
-def apply_overrides(table: dict[str, Any], overrides: Mapping[str, Any]) -> dict[str, Any]:
-    """Copy of ``table`` with ``overrides`` (keys may be dotted: ``boundary.left``)."""
+def apply_overrides(
+    table: dict[str, Any],
+    overrides: Mapping[str, Any],
+    defaults: Mapping[str, Any] | None = None,
+) -> dict[str, Any]:
+    """Copy of ``table`` with ``overrides`` (keys may be dotted: ``boundary.left``); the top
+    keys must be keys of ``defaults`` (default :data:`DEFAULTS`, a 1D scene's; a 2D scene's
+    table is :data:`conslaw.scene2d.DEFAULTS_2D`)."""
+    known = DEFAULTS if defaults is None else defaults
     result = {k: (dict(v) if isinstance(v, Mapping) else v) for k, v in table.items()}
     for dotted, value in overrides.items():
         parts = str(dotted).split(".")
-        if parts[0] not in DEFAULTS:
-            raise ConfigError(unknown_name_message("scene key", parts[0], DEFAULTS))
+        if parts[0] not in known:
+            raise ConfigError(unknown_name_message("scene key", parts[0], known))
         target = result
         for part in parts[:-1]:
             existing = target.get(part)
             if existing is None:
-                existing = dict(DEFAULTS.get(part, {})) if target is result else {}
+                existing = dict(known.get(part, {})) if target is result else {}
             if not isinstance(existing, Mapping):
                 raise ConfigError(f"scene key '{dotted}': '{part}' is not a table")
             target[part] = dict(existing)
@@ -569,11 +586,29 @@ def validate(
     )  # fmt: skip
 
 
+def is_two_dimensional(table: Mapping[str, Any]) -> bool:
+    """Whether a raw scene names a registered 2D model (one with a y flux;
+    :mod:`conslaw.scene2d` reads such scenes)."""
+    model = table.get("model")
+    return (
+        isinstance(model, str)
+        and model in registry.models
+        and registry.models.get(model).flux_y_point is not None
+    )
+
+
 def load_scene(name_or_path: str | Path, overrides: Mapping[str, Any] | None = None) -> Scene:
-    """Read, override and validate a scene (a built-in name or a ``.toml`` path)."""
+    """Read, override and validate a 1D scene (a built-in name or a ``.toml`` path); a 2D
+    scene is a ConfigError pointing to :func:`conslaw.scene2d.load_scene_2d`."""
     name, path = scene_path(name_or_path)
     raw = read_scene_file(path)
     table = apply_overrides(raw, overrides or {})
+    if is_two_dimensional(table):
+        raise ConfigError(
+            f"scene '{name}' is two-dimensional (model '{table['model']}'): run it with "
+            "conslaw.run_2d or read it with conslaw.scene2d.load_scene_2d (conslaw run takes "
+            "either)"
+        )
     if overrides and "description" not in overrides:
         table["description"] = described_with(str(raw.get("description", "")), overrides)
     return dataclasses.replace(validate(name, table, path.parent), source_file=str(path))

@@ -48,6 +48,30 @@ def _number(value: Any, key: str) -> float:
     return finite_number(value, f"initial.{key}")
 
 
+def checked_options(
+    table: Any, kinds: Mapping[str, tuple[tuple[str, ...], dict[str, Any], str]]
+) -> tuple[str, dict[str, Any]]:
+    """The kind of an ``[initial]`` table and its options with the defaults filled in; unknown
+    kinds and keys and missing required keys are ConfigErrors naming them. ``kinds``: kind ->
+    (required keys, optional keys with defaults, description)."""
+    if not isinstance(table, Mapping):
+        raise ConfigError(f"initial: expected a table, got {table!r}")
+    kind = table.get("kind")
+    if kind is None:
+        raise ConfigError(f"initial.kind is required; allowed: {', '.join(sorted(kinds))}")
+    if not isinstance(kind, str) or kind not in kinds:
+        raise ConfigError(unknown_name_message("initial.kind", str(kind), kinds))
+    required, defaults, _ = kinds[kind]
+    allowed = {"kind", *required, *defaults}
+    for key in table:
+        if key not in allowed:
+            raise ConfigError(unknown_name_message(f"key in [initial] ({kind})", key, allowed))
+    for key in required:
+        if key not in table:
+            raise ConfigError(f"initial.{key} is required for kind '{kind}'")
+    return kind, {**defaults, **{k: v for k, v in table.items() if k != "kind"}}
+
+
 @dataclass(frozen=True)
 class InitialCondition:
     """A validated initial condition: ``kind`` and its options."""
@@ -64,23 +88,8 @@ class InitialCondition:
         The allowed kinds are the generic ones and those the model adds (``initial_kinds``).
         """
         kinds = {**INITIAL_KINDS, **(model_class.initial_kinds if model_class else {})}
-        if not isinstance(table, Mapping):
-            raise ConfigError(f"initial: expected a table, got {table!r}")
-        kind = table.get("kind")
-        if kind is None:
-            raise ConfigError(f"initial.kind is required; allowed: {', '.join(sorted(kinds))}")
-        if not isinstance(kind, str) or kind not in kinds:
-            raise ConfigError(unknown_name_message("initial.kind", str(kind), kinds))
-        required, defaults, _ = kinds[kind]
-        allowed = {"kind", *required, *defaults}
-        for key in table:
-            if key not in allowed:
-                raise ConfigError(unknown_name_message(f"key in [initial] ({kind})", key, allowed))
-        for key in required:
-            if key not in table:
-                raise ConfigError(f"initial.{key} is required for kind '{kind}'")
-        options = {**defaults, **{k: v for k, v in table.items() if k != "kind"}}
-        return cls(str(kind), options)
+        kind, options = checked_options(table, kinds)
+        return cls(kind, options)
 
     def cell_averages(self, grid: Grid, model: Model) -> Array:
         """Exact cell averages of the initial data on the primary grid, shape (n_vars, n)."""

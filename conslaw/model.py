@@ -34,7 +34,9 @@ from conslaw.kernelgen import generate
 
 if TYPE_CHECKING:
     from conslaw.exact import ExactSolution
+    from conslaw.exact2d import ExactSolution2D
     from conslaw.grid import Grid
+    from conslaw.grid2d import Grid2D
 
 Array = NDArray[np.float64]
 
@@ -238,6 +240,12 @@ class Model(ABC):
 
     def initial_cell_averages(self, kind: str, options: Mapping[str, Any], grid: Grid) -> Array:
         """Exact cell averages of one of this model's :attr:`initial_kinds`."""
+        raise NotImplementedError(f"model '{self.name}' has no initial condition '{kind}'")
+
+    def initial_cell_averages_2d(
+        self, kind: str, options: Mapping[str, Any], grid: Grid2D
+    ) -> Array:
+        """Cell averages ``(n_vars, ny, nx)`` of one of a 2D model's :attr:`initial_kinds`."""
         raise NotImplementedError(f"model '{self.name}' has no initial condition '{kind}'")
 
     def figures(self) -> dict[str, Callable[..., Any]]:
@@ -517,5 +525,16 @@ class Model(ABC):
         ``context`` holds ``left`` and ``right`` (boundary names) and ``t_end`` (the last output
         time). Raise :class:`conslaw.exact.Unavailable` with the reason when the model has exact
         solutions but none applies here (waves reach a boundary before ``t_end``, ...).
+        """
+        return None
+
+    def exact_solution_2d(
+        self, initial: InitialData, grid: Grid2D, context: Mapping[str, Any]
+    ) -> ExactSolution2D | None:
+        """A 2D model's exact solution for this set-up, or None if it has none.
+
+        ``context`` holds the four sides' boundary names (``left``, ``right``, ``bottom``,
+        ``top``) and ``t_end``; raise :class:`conslaw.exact.Unavailable` with the reason when
+        the model has exact solutions but none applies here.
         """
         return None

@@ -216,6 +216,29 @@ def _builtin_schemes() -> list[tuple[str, Any]]:
     return [(scheme.name, scheme) for scheme in (NessyahuTadmor, FrontTrackingNT, LagrangianScheme)]
 
 
+def check_scheme_2d(name: str, obj: Any) -> Any:
+    """A 2D scheme is a class with ``name``, ``options`` (option name -> description),
+    ``boundary_kinds`` and the methods ``advance`` and ``initial_values``."""
+    if not isinstance(obj, type):
+        raise ContractError(f"2D scheme '{name}' must be a class")
+    if getattr(obj, "name", None) != name:
+        called = getattr(obj, "name", None)
+        raise ContractError(f"2D scheme registered as '{name}' calls itself {called!r}")
+    for attribute in ("options", "boundary_kinds"):
+        if not hasattr(obj, attribute):
+            raise ContractError(f"2D scheme '{name}' needs the class attribute '{attribute}'")
+    for method in ("advance", "initial_values"):
+        if not callable(getattr(obj, method, None)):
+            raise ContractError(f"2D scheme '{name}' does not implement '{method}'")
+    return obj
+
+
+def _builtin_schemes_2d() -> list[tuple[str, Any]]:
+    from conslaw.schemes.jiang_tadmor import JiangTadmor
+
+    return [(JiangTadmor.name, JiangTadmor)]
+
+
 def _builtin_scenes() -> list[tuple[str, Any]]:
     folder = resources.files("conslaw.scenes")
     return sorted(
@@ -228,6 +251,9 @@ def _builtin_scenes() -> list[tuple[str, Any]]:
 models: Registry[type[Model]] = Registry("model", "conslaw.models", check_model)
 schemes: Registry[type[Scheme]] = Registry(
     "scheme", "conslaw.schemes", check_scheme, _builtin_schemes
+)
+schemes_2d: Registry[Any] = Registry(
+    "2D scheme", "conslaw.schemes_2d", check_scheme_2d, _builtin_schemes_2d
 )
 reconstructors: Registry[Reconstructor] = Registry(
     "reconstructor",
@@ -250,6 +276,8 @@ def description_of(kind: str, name: str) -> str:
         return models.get(name).description
     if kind == "schemes":
         return str(getattr(schemes.get(name), "description", ""))
+    if kind == "schemes_2d":
+        return str(getattr(schemes_2d.get(name), "description", ""))
     if kind == "reconstructors":
         return reconstructors.get(name).description
     if kind == "boundaries":

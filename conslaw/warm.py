@@ -13,6 +13,7 @@ import os
 import time
 from collections.abc import Callable, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
+from typing import Any
 
 from conslaw import registry
 
@@ -25,13 +26,15 @@ def warm(
     """Compile the kernels of ``scenes`` (default: every built-in scene) in up to ``jobs``
     processes (default: the number of cores); ``report`` gets a line per kernel family. Returns
     how many families were compiled (0 when all were cached)."""
-    from conslaw.config import load_scene
+    from conslaw.scene2d import Scene2D, load_any_scene
     from conslaw.simulation import build
+    from conslaw.simulation2d import build_2d
 
     names = list(scenes) if scenes is not None else sorted(registry.scenes.names())
     families: dict[str, str] = {}
     for name in names:
-        _, _, scheme, _, _ = build(load_scene(name))
+        scene = load_any_scene(name)
+        scheme: Any = build_2d(scene)[2] if isinstance(scene, Scene2D) else build(scene)[2]
         key = scheme.kernel_identity()
         if key is not None and key not in families and scheme.needs_compile():
             families[key] = name
@@ -52,9 +55,16 @@ def warm(
 def _compile_scene(name: str) -> tuple[str, str, float]:
     """In a worker: compile what a run of scene ``name`` needs; (name, what, seconds)."""
     from conslaw.config import load_scene
+    from conslaw.scene2d import Scene2D, load_any_scene
     from conslaw.simulation import build, kernel_label
+    from conslaw.simulation2d import build_2d
 
     started = time.perf_counter()
+    scene_2d = load_any_scene(name)
+    if isinstance(scene_2d, Scene2D):
+        build_2d(scene_2d)[2].compile()
+        label = f"{scene_2d.scheme} kernels for {scene_2d.model}"
+        return name, label, time.perf_counter() - started
     scene = load_scene(name)
     model, _, scheme, initial, _ = build(scene)
     scheme.compile(initial)

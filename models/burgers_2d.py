@@ -4,14 +4,20 @@ smooth exact solution by characteristics (docs/design.md, "Toward two dimensions
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
 
-from conslaw.errors import ConfigError
-from conslaw.model import Model
+from conslaw.errors import ConfigError, finite_number
+from conslaw.exact import ExactSolution, Unavailable
+from conslaw.exact2d import ExactSolution2D, dam_break_along_normal
+from conslaw.grid2d import Grid2D
+from conslaw.model import InitialData, Model
 from conslaw_models.burgers import flux_point, jacobian_point, max_speed_point
+from conslaw_models.burgers_exact import BurgersRiemannFans
 
 Array = NDArray[np.float64]
 
@@ -32,6 +38,65 @@ class Burgers2D(Model):
     flux_point = staticmethod(flux_point)
     jacobian_point = staticmethod(jacobian_point)
     max_speed_point = staticmethod(max_speed_point)
+    initial_kinds: ClassVar[dict[str, tuple[tuple[str, ...], dict[str, Any], str]]] = {
+        "product-wave": (
+            ("mean", "amplitude"),
+            {},
+            "u0 = mean + amplitude sin(2 pi x / L) sin(2 pi y / L) on a square of side L",
+        ),
+    }
+
+    @staticmethod
+    def product_wave(options: Mapping[str, Any], grid: Grid2D) -> SmoothProductWave:
+        """The :class:`SmoothProductWave` of a ``product-wave`` initial condition (the domain
+        must be a square: its side is the period)."""
+        if grid.x.length != grid.y.length:
+            raise ConfigError(
+                "initial.kind 'product-wave' needs a square domain (x_max - x_min = y_max - y_min)"
+            )
+        mean = finite_number(options["mean"], "initial.mean")
+        amplitude = finite_number(options["amplitude"], "initial.amplitude")
+        return SmoothProductWave(mean, amplitude, grid.x.length)
+
+    def initial_cell_averages_2d(
+        self, kind: str, options: Mapping[str, Any], grid: Grid2D
+    ) -> Array:
+        """``product-wave``: Gauss–Legendre cell averages of ``u0``
+        (:meth:`SmoothProductWave.cell_averages`)."""
+        if kind == "product-wave":
+            wave = self.product_wave(options, grid)
+            return wave.cell_averages(grid.x.edges, grid.y.edges, 0.0)
+        return super().initial_cell_averages_2d(kind, options, grid)
+
+    def exact_solution_2d(
+        self, initial: InitialData, grid: Grid2D, context: Mapping[str, Any]
+    ) -> ExactSolution2D | None:
+        """The product wave before it breaks (periodic domain); a Riemann problem along an
+        axis (:func:`conslaw.exact2d.dam_break_along_normal` with the 1D fans); else None or
+        :class:`~conslaw.exact.Unavailable`."""
+        t_end = float(context["t_end"])
+        if initial.kind == "product-wave":
+            if any(context[side] != "periodic" for side in ("left", "right", "bottom", "top")):
+                raise Unavailable("the exact product wave needs a periodic domain")
+            wave = self.product_wave(initial.options, grid)
+            if wave.breaking_time() <= t_end:
+                raise Unavailable(f"the wave breaks at t={wave.breaking_time():g}")
+            return wave
+        if initial.kind != "dam-break":
+            return None
+        if float(initial.options["period"]) != 0.0:
+            raise Unavailable("stripes of Burgers data have no exact solution here")
+        if any(float(v) < 0.0 for v in initial.options["normal"]):
+            raise Unavailable("the exact Riemann solution needs a normal along +x or +y")
+
+        def solve(low: Array, high: Array, x0: float) -> ExactSolution | None:
+            return BurgersRiemannFans((x0,), (float(low[0]), float(high[0])))
+
+        def extent(piece: ExactSolution, t: float) -> tuple[float, float]:
+            assert isinstance(piece, BurgersRiemannFans)
+            return piece._wave_extent(0, t)
+
+        return dam_break_along_normal(initial.options, grid, context, solve, extent, None)
 
 
 @dataclass(frozen=True)

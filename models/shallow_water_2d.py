@@ -16,15 +16,19 @@ and the staggered cells share (``quarter_bed``; docs/design.md, "Toward two dime
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-from conslaw.errors import ConfigError
-from conslaw.model import parameter
+from conslaw.errors import ConfigError, finite_number
+from conslaw.exact import ExactSolution, Unavailable
+from conslaw.exact2d import ExactSolution2D, dam_break_along_normal, gauss_average
+from conslaw.grid2d import Grid2D
+from conslaw.model import InitialData, parameter
 from conslaw_models.depth_averaged import DRY, velocity
 from conslaw_models.shallow_water import (
     WaterOverBed,
@@ -32,6 +36,8 @@ from conslaw_models.shallow_water import (
     check_water_parameters,
     max_speed_point,
 )
+from conslaw_models.shallow_water_2d_exact import ThackerPlanar
+from conslaw_models.shallow_water_exact import DamBreak
 
 Array = NDArray[np.float64]
 
@@ -207,6 +213,18 @@ class ShallowWater2D(WaterOverBed):
     surface_aux_y: ClassVar[tuple[int, int] | None] = (BED_Y, BED_TWIST)
     admissible_rule = "finite h >= 0, and hu = hv = 0 where h < dry_tolerance"
     Parameters = ShallowWater2DParameters
+    initial_kinds: ClassVar[dict[str, tuple[tuple[str, ...], dict[str, Any], str]]] = {
+        "still-water": (
+            ("surface",),
+            {},
+            "water at rest up to the level `surface` over the bed, dry land above it",
+        ),
+        "thacker": (
+            ("amplitude",),
+            {},
+            "Thacker's planar surface in the bowl (needs bowl_depth > 0), amplitude eta",
+        ),
+    }
     flux_point = staticmethod(flux_point)
     jacobian_point = staticmethod(jacobian_point)
     max_speed_point = staticmethod(max_speed_point)
@@ -275,3 +293,89 @@ class ShallowWater2D(WaterOverBed):
             "u": np.where(wet, np.asarray(q[1]) / safe, 0.0),
             "v": np.where(wet, np.asarray(q[2]) / safe, 0.0),
         }
+
+    def thacker(self, amplitude: float) -> ThackerPlanar:
+        """Thacker's planar oscillation of amplitude ``amplitude`` in the model's bowl."""
+        p = self.params
+        if p.bowl_depth <= 0.0 or p.bump_height != 0.0:
+            raise ConfigError(
+                "initial.kind 'thacker' needs the bowl alone: parameters.bowl_depth > 0 and "
+                "bump_height = 0"
+            )
+        return ThackerPlanar(
+            p.bowl_depth, p.bowl_radius, amplitude, p.g, p.bowl_centre_x, p.bowl_centre_y
+        )
+
+    def initial_cell_averages_2d(
+        self, kind: str, options: Mapping[str, Any], grid: Grid2D
+    ) -> Array:
+        """``still-water``: ``h = max(surface - b, 0)`` of the cell-average bed ``b`` (a scheme
+        that reads the bed by quarters may replace it by its own still water); ``thacker``:
+        the cell averages of Thacker's planar surface at ``t = 0``
+        (:class:`~conslaw_models.shallow_water_2d_exact.ThackerPlanar`)."""
+        x_edges, y_edges = grid.x.edges, grid.y.edges
+        if kind == "still-water":
+            surface = finite_number(options["surface"], "initial.surface")
+            h = np.maximum(surface - self.quarter_bed(x_edges, y_edges), 0.0)
+            return np.stack([h, np.zeros_like(h), np.zeros_like(h)])
+        if kind == "thacker":
+            amplitude = finite_number(options["amplitude"], "initial.amplitude")
+            return self.thacker(amplitude).cell_averages(x_edges, y_edges, 0.0)
+        return super().initial_cell_averages_2d(kind, options, grid)
+
+    def exact_solution_2d(
+        self, initial: InitialData, grid: Grid2D, context: Mapping[str, Any]
+    ) -> ExactSolution2D | None:
+        """Stoker/Ritter along the normal of a dam break on a flat bed between states at rest
+        (:func:`conslaw.exact2d.dam_break_along_normal`), Thacker's planar surface while it
+        stays inside the domain, still water at rest between walls; else None or
+        :class:`~conslaw.exact.Unavailable`."""
+        p = self.params
+        if initial.kind == "thacker":
+            thacker = self.thacker(float(initial.options["amplitude"]))
+            reach = p.bowl_radius + abs(thacker.eta)
+            if (
+                p.bowl_centre_x - reach < grid.x.x_min
+                or p.bowl_centre_x + reach > grid.x.x_max
+                or p.bowl_centre_y - reach < grid.y.x_min
+                or p.bowl_centre_y + reach > grid.y.x_max
+            ):
+                raise Unavailable("the water of Thacker's solution reaches the boundary")
+            return thacker
+        if initial.kind == "still-water":
+            if any(context[side] != "wall" for side in ("left", "right", "bottom", "top")):
+                raise Unavailable("still water stays still between walls only")
+            return StillWater2D(self, float(initial.options["surface"]))
+        if initial.kind != "dam-break" or self.has_bed:
+            return None
+
+        def solve(low: Array, high: Array, x0: float) -> ExactSolution | None:
+            if low[1] != 0.0 or low[2] != 0.0 or high[1] != 0.0 or high[2] != 0.0:
+                return None
+            if low[0] == high[0]:
+                return None
+            return DamBreak(x0, float(low[0]), float(high[0]), p.g)
+
+        def extent(piece: ExactSolution, t: float) -> tuple[float, float]:
+            assert isinstance(piece, DamBreak)
+            return piece.wave_extent(t)
+
+        return dam_break_along_normal(initial.options, grid, context, solve, extent, 1)
+
+
+@dataclass(frozen=True)
+class StillWater2D:
+    """Water at rest: ``h = max(surface - b, 0)`` with the model's bed, no momentum (cell
+    averages of the depth by :func:`conslaw.exact2d.gauss_average`)."""
+
+    model: ShallowWater2D
+    surface: float
+
+    def point_values(self, x: Array, y: Array, t: float) -> Array:
+        """``(h, 0, 0)`` at the points."""
+        h = np.maximum(self.surface - self.model.bed(x, y), 0.0)
+        return np.stack([h, np.zeros_like(h), np.zeros_like(h)])
+
+    def cell_averages(self, x_edges: Array, y_edges: Array, t: float) -> Array:
+        """Averages over the cells (Gauss points on sub-cells: the shoreline is a kink)."""
+        return gauss_average(lambda x, y: self.point_values(x, y, t), x_edges, y_edges)

@@ -50,7 +50,11 @@ VALUE_BOXES: dict[str, tuple[tuple[float, float], ...]] = {
     "burgers": ((-10.0, 10.0),),
 }
 
-MODEL_NAMES: list[str] = registry.models.names()
+#: The one-dimensional models (the 2D ones have their own tests: test_jiang_tadmor*.py,
+#: test_scene_2d.py).
+MODEL_NAMES: list[str] = [
+    name for name in registry.models.names() if registry.models.get(name).flux_y_point is None
+]
 RECONSTRUCTOR_NAMES: list[str] = registry.reconstructors.names()
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import io
+from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -28,6 +29,16 @@ def npz_bytes(compressed: bool = True, **arrays: Any) -> bytes:
     return buffer.getvalue()
 
 
+def exact_or_nan(exact: Sequence[Any], values: Sequence[Any]) -> Any:
+    """The exact cell averages of every output as one array, NaN where there are none."""
+    return np.array(
+        [
+            e if e is not None else np.full_like(v, np.nan)
+            for e, v in zip(exact, values, strict=True)
+        ]
+    )
+
+
 def write_states(path: Path, result: RunResult, compressed: bool = True) -> Path:
     """Atomic ``states.npz`` of the outputs so far (:func:`states_bytes`)."""
     return atomic_write_bytes(path, states_bytes(result, compressed))
@@ -50,12 +61,7 @@ def states_bytes(
     """
     if provenance is None:
         provenance = record(result.scene)
-    exact = np.array(
-        [
-            e if e is not None else np.full_like(s.q, np.nan)
-            for e, s in zip(result.exact, result.states, strict=True)
-        ]
-    )
+    exact = exact_or_nan(result.exact, [state.q for state in result.states])
     return npz_bytes(
         compressed,
         t=np.array([s.t for s in result.states]),

@@ -47,7 +47,7 @@ Array = NDArray[np.float64]
 _TEMPORARY = re.compile(r"\.(.+)\.[^.]{8}\.tmp")
 _OWN_FILE = re.compile(
     rf"^({SERIES}(-(\d{{5}}|mesh)\.(h5|vtu|csv)|\.xdmf|\.pvd)"
-    r"|states\.npz|margins\.csv|(profiles|margins|chute|xt)\.png)$"
+    r"|states\.npz|margins\.csv|(profiles|margins|chute|xt|map|cuts)\.png)$"
 )
 
 

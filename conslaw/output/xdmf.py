@@ -41,23 +41,35 @@ def _data_item(parent: ET.Element, values_shape: tuple[int, ...], kind: str, tex
 
 
 def xdmf_document(
-    mesh_file: str, n_cells: int, entries: list[tuple[float, str, list[str], dict[str, float]]]
+    mesh_file: str,
+    n_cells: int,
+    entries: list[tuple[float, str, list[str], dict[str, float]]],
+    quadrilaterals: tuple[int, int] | None = None,
 ) -> bytes:
     """The XDMF 3 index of a series: one uniform grid ``mesh`` (topology and geometry in
     ``mesh_file``) and a temporal collection with one grid per ``(t, data file, cell field
     names, field data)`` entry, each field a cell-centred attribute in the data file and the
-    field data as ``Information`` elements."""
+    field data as ``Information`` elements.
+
+    The mesh is ``n_cells`` line cells on ``n_cells + 1`` points (1D), or, with
+    ``quadrilaterals = (nx, ny)``, ``nx ny`` quadrilateral cells on ``(nx + 1)(ny + 1)``
+    points (2D)."""
     root = ET.Element("Xdmf", Version="3.0")
     root.set("xmlns:xi", "http://www.w3.org/2001/XInclude")
     domain = ET.SubElement(root, "Domain")
     mesh = ET.SubElement(domain, "Grid", Name="mesh", GridType="Uniform")
+    if quadrilaterals is None:
+        kind, corners, n_points = "Polyline", 2, n_cells + 1
+    else:
+        nx, ny = quadrilaterals
+        kind, corners, n_points = "Quadrilateral", 4, (nx + 1) * (ny + 1)
     topology = ET.SubElement(
-        mesh, "Topology", TopologyType="Polyline", NodesPerElement="2",
+        mesh, "Topology", TopologyType=kind, NodesPerElement=str(corners),
         NumberOfElements=str(n_cells),
     )  # fmt: skip
-    _data_item(topology, (n_cells, 2), "Int", f"{mesh_file}:/cells")
+    _data_item(topology, (n_cells, corners), "Int", f"{mesh_file}:/cells")
     geometry = ET.SubElement(mesh, "Geometry", GeometryType="XYZ")
-    _data_item(geometry, (n_cells + 1, 3), "Float", f"{mesh_file}:/points")
+    _data_item(geometry, (n_points, 3), "Float", f"{mesh_file}:/points")
     series = ET.SubElement(
         domain, "Grid", Name=SERIES, GridType="Collection", CollectionType="Temporal"
     )

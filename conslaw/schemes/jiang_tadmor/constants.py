@@ -9,3 +9,12 @@ QUARTER_MARGIN = 1e-12
 #: The smallest normal double: a momentum below it has lost its relative precision (subnormal),
 #: so a quarter's momentum within this of the range's bound is inside.
 TINY = 2.2250738585072014e-308
+
+#: Columns of a family's per-row statistics (``kernel_template.row_statistics``, read by the time
+#: loop of :class:`~conslaw.schemes.jiang_tadmor.scheme.JiangTadmor`): the largest wave speed in
+#: x, in y, the smallest and the largest depth; :data:`STATISTICS` columns in all.
+SPEED_X = 0
+SPEED_Y = 1
+LOWEST = 2
+DEEPEST = 3
+STATISTICS = 4

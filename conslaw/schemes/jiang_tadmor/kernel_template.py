@@ -39,7 +39,14 @@ from numba import njit, prange
 
 from conslaw.kernelgen.stack import local_matrix, local_vector
 from conslaw.reconstruct.dispatch import builtin_slopes, builtin_slopes_across
-from conslaw.schemes.jiang_tadmor.constants import QUARTER_MARGIN, TINY
+from conslaw.schemes.jiang_tadmor.constants import (
+    DEEPEST,
+    LOWEST,
+    QUARTER_MARGIN,
+    SPEED_X,
+    SPEED_Y,
+    TINY,
+)
 from conslaw.schemes.nessyahu_tadmor.constants import DEPTH_SLOPE_LIMIT, THIN_TAIL
 
 # --- bindings ---
@@ -75,17 +82,15 @@ FLUX_Y = 3 * NV
 #: Then the velocities of each momentum (x first) in the row below, the row and the row above.
 VELOCITY = 4 * NV
 MOMENTA = (MOMENTUM >= 0) + (MOMENTUM_Y >= 0)
+#: Row of the first of them: the x momentum, or the y momentum of a model with no x momentum.
+FIRST_MOMENTUM = MOMENTUM if MOMENTUM >= 0 else MOMENTUM_Y
 WORK_ROWS = 4 * NV + 3 * MOMENTA
 #: Kinds of side (the ``kinds`` array of :func:`fill_ghosts`).
 PERIODIC = 0
 OUTFLOW = 1
 WALL = 2
-#: Columns of the per-row statistics: largest wave speed in x, in y, smallest and largest depth.
-SPEED_X = 0
-SPEED_Y = 1
-LOWEST = 2
-DEEPEST = 3
-STATISTICS = 4
+# The per-row statistics (:func:`row_statistics`) are in the columns SPEED_X, SPEED_Y, LOWEST,
+# DEEPEST of conslaw.schemes.jiang_tadmor.constants (shared with the scheme's time loop).
 #: Index of the reconstructor's code in the parameter vector.
 SLOPE_CODE = NPARAMS
 
@@ -259,7 +264,7 @@ def depth_rules(w, k, first, count, slots):
         along_x[j] = limited_depth_slope(slope_x, slope_y, ratio, depth)
         along_y[j] = limited_depth_slope(slope_y, slope_x, ratio, depth)
     for n in range(MOMENTA):
-        m = MOMENTUM if n == 0 else MOMENTUM_Y
+        m = FIRST_MOMENTUM if n == 0 else MOMENTUM_Y
         momenta = w[m, k, first : first + count]
         momentum_x, momentum_y = slots[SLOPE_X + m], slots[SLOPE_Y + m]
         below, here = slots[VELOCITY + 3 * n], slots[VELOCITY + 3 * n + 1]
@@ -319,7 +324,7 @@ def row_velocities(w, k, first, count, slots):
     ``first - 1 .. first + count`` into the VELOCITY rows of ``slots`` (each division in a loop
     of its own, which vectorises)."""
     for n in range(MOMENTA):
-        m = MOMENTUM if n == 0 else MOMENTUM_Y
+        m = FIRST_MOMENTUM if n == 0 else MOMENTUM_Y
         for r in range(3):
             row = slots[VELOCITY + 3 * n + r]
             for j in range(count + 2):
@@ -488,24 +493,29 @@ def bound_tails(w, out, k, step, params):
 
 @njit(cache=True, error_model="numpy")
 def row_statistics(out, k, columns, params, statistics):
-    """Largest wave speeds in x and y, smallest and largest depth of padded row ``NG + k`` (NaN
-    if a value is NaN) into ``statistics[k]``."""
+    """Largest wave speeds in x and y, smallest and largest depth of padded row ``NG + k`` into
+    ``statistics[k]``; the speeds and the smallest depth NaN if a value or a wave speed of the
+    row is not finite (a NaN or infinite momentum of a dry cell too, whose wave speeds are 0)."""
     q, aux = local_vector(NV), local_vector(NAUX)
     for a in range(NAUX):
         aux[a] = 0.0
     speed_x, speed_y, lowest, deepest, finite = 0.0, 0.0, np.inf, -np.inf, True
     for j in range(columns):
+        # x - x is 0 for a finite x and NaN for a NaN or an infinity (no fast-math): the sum is
+        # 0 only if every value and wave speed of the cell is finite.
+        residue = 0.0
         for v in range(NV):
             q[v] = out[v, NG + k, NG + j]
+            residue += q[v] - q[v]
         along_x = _max_speed_point(q, aux, params)
         along_y = _max_speed_y_point(q, aux, params)
         speed_x = max(speed_x, along_x)
         speed_y = max(speed_y, along_y)
-        finite = finite and along_x == along_x and along_y == along_y
+        residue += (along_x - along_x) + (along_y - along_y)
+        finite = finite and residue == 0.0
         if DEPTH >= 0:
             lowest = min(lowest, q[DEPTH])
             deepest = max(deepest, q[DEPTH])
-            finite = finite and q[DEPTH] == q[DEPTH]
     if not finite:
         speed_x, speed_y, lowest = np.nan, np.nan, np.nan
     statistics[k, SPEED_X] = speed_x

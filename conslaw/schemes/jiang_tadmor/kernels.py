@@ -18,7 +18,22 @@ TEMPLATE = Path(__file__).with_name("kernel_template.py")
 def jt_kernels(model: Model, reconstructor: Reconstructor) -> ModuleType:
     """The Jiang–Tadmor kernels of a 2D model: its x and y pointwise functions, its correction
     and depth rows; every built-in reconstructor shares them (its code is a run-time parameter),
-    a plugin's reconstructor has its own."""
+    a plugin's reconstructor has its own.
+
+    Parameters
+    ----------
+    model : Model
+        A 2D model without a bed (:func:`~conslaw.schemes.jiang_tadmor.scheme.compiles`).
+    reconstructor : Reconstructor
+        A built-in reconstructor (``code`` set) or a plugin's (``code`` None: its
+        ``slope_point`` is compiled in, ``CUSTOM_SLOPES``).
+
+    Returns
+    -------
+    ModuleType
+        The generated module of ``kernel_template.py`` (written and compiled once, then loaded
+        from the kernel cache).
+    """
     model_class = type(model)
     custom = reconstructor.code is None
     bindings = {

@@ -5,15 +5,16 @@ shallow water over a flat bed) take the compiled kernel of
 :mod:`~conslaw.schemes.jiang_tadmor.kernel_template`, multi-threaded across rows; over a bed the
 steps are those of :class:`~conslaw.schemes.jiang_tadmor.reference.JiangTadmorReference` (its
 still-water rules are not compiled yet; docs/design.md, "Toward two dimensions"). The time loop
-is the reference's :meth:`~JiangTadmorReference.advance` in both: step pairs of one ``dt``, a
-pair redone with half the step while a depth would become negative and with the staggered
-values' stable step if their Courant number would reach 1/2.
+is one for both, that of :meth:`JiangTadmorReference.advance` (step pairs of one ``dt``, a pair
+redone with half the step while a depth would become negative and with the staggered values'
+stable step if their Courant number would reach 1/2), with a progress report after every pair
+and a check of every new family for values and wave speeds that are not finite.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from typing import Any
+from typing import Any, ClassVar
 
 import numba
 import numpy as np
@@ -21,8 +22,16 @@ from numpy.typing import NDArray
 
 from conslaw.errors import ConfigError, SchemeBreakdownError
 from conslaw.grid2d import Grid2D
+from conslaw.kernelgen import compile_lock, compiled_before
 from conslaw.model import Model
 from conslaw.reconstruct import Reconstructor
+from conslaw.schemes.jiang_tadmor.constants import (
+    DEEPEST,
+    LOWEST,
+    SPEED_X,
+    SPEED_Y,
+    STATISTICS,
+)
 from conslaw.schemes.jiang_tadmor.kernels import jt_kernels
 from conslaw.schemes.jiang_tadmor.reference import (
     CFL_LIMIT,
@@ -40,8 +49,19 @@ CHUNKS_PER_THREAD = 2
 
 
 def compiles(model: Model) -> bool:
-    """Whether the compiled kernel covers ``model``: no bed (no source, no well-balanced
-    source, no surface reconstruction), no resistance and no coefficients of its own."""
+    """Whether the compiled kernel covers ``model``.
+
+    Parameters
+    ----------
+    model : Model
+        A 2D model.
+
+    Returns
+    -------
+    bool
+        True if it has no bed (no source, no well-balanced source, no surface reconstruction),
+        no resistance and no coefficients of its own.
+    """
     uses = model.capabilities()
     return not any(
         uses[key]
@@ -58,7 +78,14 @@ def compiles(model: Model) -> bool:
 
 
 class JiangTadmor:
-    """The Jiang–Tadmor (1998) scheme for a 2D model on ``grid``.
+    """The Jiang–Tadmor (1998) staggered central scheme for a 2D model on ``grid``.
+
+    Each step maps the cell averages of one family to those of the other, centred on the
+    corners of the first (Jiang & Tadmor 1998, SIAM J. Sci. Comput. 19, 1892–1917; the formula
+    and its predictor are in :mod:`~conslaw.schemes.jiang_tadmor.reference`)::
+
+        w_new = (a + b + c + d)/4 + (slope terms)/16
+                - dt/(2 dx) (x fluxes of the predicted values) - dt/(2 dy) (y fluxes)
 
     Parameters
     ----------
@@ -66,11 +93,40 @@ class JiangTadmor:
         As :class:`~conslaw.schemes.jiang_tadmor.reference.JiangTadmorReference` (which checks
         them).
     threads : int, optional
-        Threads of the compiled kernel (default: numba's, every core).
+        Threads of the compiled kernel, in ``[1, available_threads()]`` (default: numba's,
+        every core).
     chunks : int, optional
-        Chunks of rows a step is cut into (default ``2 threads``); the results do not depend on
-        it, bit for bit.
+        Chunks of rows a step is cut into, at least 1 (default ``2 threads``); the results do
+        not depend on it, bit for bit.
+
+    Raises
+    ------
+    ConfigError
+        If ``threads`` or ``chunks`` is out of range (with or without a bed), or as
+        :class:`JiangTadmorReference`.
+
+    Notes
+    -----
+    Models without a bed (:func:`compiles`) take the compiled kernel; over a bed the steps are
+    :meth:`JiangTadmorReference.step`, run by numpy, and ``threads`` and ``chunks`` are checked
+    but not used. Everything else is the same in both: the values (the kernel's arithmetic is
+    the reference's, operation for operation), the time loop of :meth:`advance` with its
+    progress reports and its check for values that are not finite, and :meth:`step` refusing a
+    ``dt`` whose Courant number reaches 1/2.
     """
+
+    #: The scheme's name in the registry of 2D schemes and in scene files.
+    name: ClassVar[str] = "jiang-tadmor"
+    description: ClassVar[str] = (
+        "Jiang-Tadmor staggered central scheme in 2D (compiled, threads across rows)"
+    )
+    #: The options a scene's ``[scheme_options]`` may set (integers >= 1).
+    options: ClassVar[dict[str, str]] = {
+        "threads": "threads of the compiled kernel (default: every core)",
+        "chunks": "chunks of rows a step is cut into (default: 2 per thread)",
+    }
+    #: Boundary conditions of every side.
+    boundary_kinds: ClassVar[tuple[str, ...]] = KINDS
 
     def __init__(
         self,
@@ -84,32 +140,38 @@ class JiangTadmor:
     ) -> None:
         self.reference = JiangTadmorReference(model, reconstructor, grid, boundaries, cfl)
         self.model, self.grid, self.cfl = model, grid, float(cfl)
-        self.compiled = compiles(model)
-        if not self.compiled:
-            return
         available = self.available_threads()
         self.threads = available if threads is None else int(threads)
         if not 1 <= self.threads <= available:
             raise ConfigError(f"threads must be in [1, {available}], got {threads!r}")
+        self.chunks = CHUNKS_PER_THREAD * self.threads if chunks is None else int(chunks)
+        if self.chunks < 1:
+            raise ConfigError(f"chunks must be >= 1, got {chunks!r}")
+        self.shapes = {
+            staggered: self.reference.family_shape(staggered) for staggered in (False, True)
+        }
+        self.compiled = compiles(model)
+        # The families of a step pair (primary, staggered, primary) and their statistics: per
+        # row, padded and reused by the kernel; the reference's values and one row over a bed.
+        self.states = [np.zeros((model.n_vars, 0, 0)) for _ in range(3)]
+        self.statistics = [np.zeros((1, STATISTICS)) for _ in range(3)]
+        if self.compiled:
+            self._prepare_kernel(reconstructor, boundaries)
+
+    def _prepare_kernel(self, reconstructor: Reconstructor, boundaries: Mapping[str, str]) -> None:
+        """The compiled kernel of the model, its parameters, padded buffers and sides."""
+        model, shapes = self.model, self.shapes
         self.kernels = jt_kernels(model, reconstructor)
         code = -1.0 if reconstructor.code is None else float(reconstructor.code)
         self.params = np.append(model.param_vector(), code)
-        shapes = {staggered: self.reference.family_shape(staggered) for staggered in (False, True)}
-        n_chunks = CHUNKS_PER_THREAD * self.threads if chunks is None else int(chunks)
-        if n_chunks < 1:
-            raise ConfigError(f"chunks must be >= 1, got {chunks!r}")
         columns = max(shape[1] for shape in shapes.values())
-        self.work = np.zeros(self.kernels.work_shape(n_chunks, columns))
-        self.shapes = shapes
+        self.work = np.zeros(self.kernels.work_shape(self.chunks, columns))
         nv = model.n_vars
         padded = {
             s: (nv, rows + 2 * GHOSTS, cols + 2 * GHOSTS) for s, (rows, cols) in shapes.items()
         }
         self.states = [np.zeros(padded[False]), np.zeros(padded[True]), np.zeros(padded[False])]
-        columns_of_statistics = self.kernels.STATISTICS
-        self.statistics = [
-            np.zeros((shapes[s][0], columns_of_statistics)) for s in (False, True, False)
-        ]
+        self.statistics = [np.zeros((shapes[s][0], STATISTICS)) for s in (False, True, False)]
         kinds = np.array([KINDS.index(boundaries[side]) for side in SIDES], dtype=np.int64)
         signs_x = np.asarray(model.reflect_signs, dtype=np.float64)
         signs_y = np.asarray(model.reflect_signs_y or model.reflect_signs, dtype=np.float64)
@@ -121,49 +183,173 @@ class JiangTadmor:
         ]:  # the kernel's codes of the kinds are the reference's order
             raise AssertionError("side kinds out of order")
 
+    def initial_values(self, initial: Any) -> Array | None:
+        """The scheme's own initial values of a scene's initial condition, or None for the
+        cell averages: still water (``initial.kind == "still-water"``) is
+        :meth:`JiangTadmorReference.still_water`, level over the scheme's quarter-cell bed, so
+        that it stays at rest to round-off.
+
+        Parameters
+        ----------
+        initial : InitialCondition2D
+            Its ``kind`` and ``options``.
+
+        Returns
+        -------
+        numpy.ndarray or None
+            ``(n_vars, ny, nx)`` values, or None.
+        """
+        if initial.kind == "still-water" and self.model.depth_index is not None:
+            return self.reference.still_water(float(initial.options["surface"]))
+        return None
+
+    def kernel_identity(self) -> str | None:
+        """The name of the generated kernel module this scheme runs (runs that share it share
+        one compile), or None over a bed (numpy steps)."""
+        return self.kernels.__name__ if self.compiled else None
+
+    def needs_compile(self) -> bool:
+        """Whether the first step compiles the kernel (it is not in numba's cache)."""
+        return self.compiled and not compiled_before(self.kernels, "step_family")
+
+    def compile(self) -> None:
+        """Compile (or load from the cache) the kernel's functions, with the kernel module's
+        compile lock held (:func:`~conslaw.kernelgen.compile_lock`: of several processes that
+        need the same kernel, one compiles it): one step of length 0 on still values."""
+        if not self.compiled:
+            return
+        with compile_lock(self.kernels):
+            q = np.zeros((self.model.n_vars, *self.shapes[False]))
+            if self.model.depth_index is not None:
+                q[self.model.depth_index] = 1.0
+            self.step(q, False, 0.0)
+
     @staticmethod
     def available_threads() -> int:
-        """The most threads a kernel can run on (numba's, every core)."""
+        """The most threads a kernel can run on.
+
+        Returns
+        -------
+        int
+            numba's thread count (``NUMBA_NUM_THREADS``, every core unless set).
+        """
         return int(numba.config.NUMBA_NUM_THREADS)  # type: ignore[attr-defined]
 
     def step(self, q: Array, staggered: bool, dt: float) -> Array:
-        """One step from the family of ``q`` (``staggered`` or primary) to the other with ``dt``
-        (no Courant check), as :meth:`JiangTadmorReference.step`; the new values (a new array)."""
+        """One step from the family of ``q`` to the other, as :meth:`JiangTadmorReference.step`.
+
+        Parameters
+        ----------
+        q : ndarray
+            Values of the primary family (``staggered`` False) or of the staggered one,
+            ``(n_vars, rows, columns)``.
+        staggered : bool
+            Whether ``q`` is the staggered family.
+        dt : float
+            The time step.
+
+        Returns
+        -------
+        ndarray
+            The other family's values (a new array).
+
+        Raises
+        ------
+        SchemeBreakdownError
+            If a Courant number of ``q`` reaches 1/2 with this ``dt``.
+        """
         if not self.compiled:
             return self.reference.step(q, staggered, dt)
         source, target = (1, 2) if staggered else (0, 1)
-        rows, columns = self.shapes[staggered]
-        self.states[source][:, GHOSTS : GHOSTS + rows, GHOSTS : GHOSTS + columns] = q
-        self.kernels.fill_ghosts(self.states[source], rows, columns, staggered, self.sides)
-        numba.set_num_threads(self.threads)
-        self.kernels.family_statistics(
-            self.states[source], rows, columns, self.params, self.statistics[source]
-        )
+        self._load(q, source)
+        if self._courant_reached(self.statistics[source], dt):
+            raise SchemeBreakdownError(
+                f"dt={dt:g} makes a Courant number reach {CFL_LIMIT} (Jiang & Tadmor 1998)"
+            )
         self._step(source, target, staggered, dt)
-        rows, columns = self.shapes[not staggered]
-        return self.states[target][:, GHOSTS : GHOSTS + rows, GHOSTS : GHOSTS + columns].copy()
+        return self._values(target).copy()
 
     def stable_dt(self, statistics: Array) -> float:
-        """``min(cfl dx / max|a_x|, cfl dy / max|a_y|)`` of a family's row statistics (inf at
-        rest), as :meth:`JiangTadmorReference.stable_dt`."""
-        speed_x = float(np.max(statistics[:, 0]))
-        speed_y = float(np.max(statistics[:, 1]))
+        """The largest time step of a family with both Courant numbers at most ``cfl``, as
+        :meth:`JiangTadmorReference.stable_dt`: ``min(cfl dx / max|a_x|, cfl dy / max|a_y|)``.
+
+        Parameters
+        ----------
+        statistics : ndarray
+            The family's statistics, one row per row of cells (or one for the whole family),
+            columns ``SPEED_X``, ``SPEED_Y``, ``LOWEST``, ``DEEPEST`` of
+            :mod:`~conslaw.schemes.jiang_tadmor.constants`.
+
+        Returns
+        -------
+        float
+            The time step; inf at rest.
+        """
+        speed_x = float(np.max(statistics[:, SPEED_X]))
+        speed_y = float(np.max(statistics[:, SPEED_Y]))
         dt_x = self.cfl * self.grid.dx / speed_x if speed_x > 0.0 else np.inf
         dt_y = self.cfl * self.grid.dy / speed_y if speed_y > 0.0 else np.inf
         return min(dt_x, dt_y)
 
     def _courant_reached(self, statistics: Array, dt: float) -> bool:
-        speed_x = float(np.max(statistics[:, 0]))
-        speed_y = float(np.max(statistics[:, 1]))
+        speed_x = float(np.max(statistics[:, SPEED_X]))
+        speed_y = float(np.max(statistics[:, SPEED_Y]))
         return max(dt * speed_x / self.grid.dx, dt * speed_y / self.grid.dy) >= CFL_LIMIT
 
+    def _negative_depth(self, statistics: Array) -> bool:
+        return self.model.depth_index is not None and bool(np.min(statistics[:, LOWEST]) < 0.0)
+
+    def _values(self, buffer: int) -> Array:
+        """The cells of state buffer ``buffer`` (a view; buffer 1 holds a staggered family)."""
+        if not self.compiled:
+            return self.states[buffer]
+        rows, columns = self.shapes[buffer == 1]
+        return self.states[buffer][:, GHOSTS : GHOSTS + rows, GHOSTS : GHOSTS + columns]
+
+    def _load(self, q: Array, buffer: int) -> None:
+        """Values ``q`` into state buffer ``buffer`` (its ghosts filled for the kernel), with
+        their statistics."""
+        if not self.compiled:
+            self.states[buffer] = np.asarray(q, dtype=np.float64)
+            self.statistics[buffer] = self._reference_statistics(self.states[buffer])
+            return
+        staggered = buffer == 1
+        rows, columns = self.shapes[staggered]
+        self._values(buffer)[...] = q
+        self.kernels.fill_ghosts(self.states[buffer], rows, columns, staggered, self.sides)
+        numba.set_num_threads(self.threads)
+        self.kernels.family_statistics(
+            self.states[buffer], rows, columns, self.params, self.statistics[buffer]
+        )
+
+    def _reference_statistics(self, values: Array) -> Array:
+        """The statistics of a family of the reference's steps as one row, as the kernel's
+        ``row_statistics`` of all its cells: the speeds and the smallest depth NaN if a value
+        or a wave speed is not finite."""
+        statistics = np.array([[0.0, 0.0, np.inf, -np.inf]])
+        with np.errstate(invalid="ignore", over="ignore"):
+            speeds = self.reference.max_speeds(values)
+        statistics[0, SPEED_X], statistics[0, SPEED_Y] = speeds
+        depth = self.model.depth_index
+        if depth is not None:
+            statistics[0, LOWEST] = np.min(values[depth])
+            statistics[0, DEEPEST] = np.max(values[depth])
+        if not (np.all(np.isfinite(values)) and np.all(np.isfinite(speeds))):
+            statistics[0, [SPEED_X, SPEED_Y, LOWEST]] = np.nan
+        return statistics
+
     def _step(self, source: int, target: int, staggered: bool, dt: float) -> Array:
-        """One compiled step from state buffer ``source`` (a primary family unless
-        ``staggered``) into buffer ``target``, its ghosts filled; the new rows' statistics."""
+        """One step from state buffer ``source`` (a primary family unless ``staggered``) into
+        buffer ``target`` (its ghosts filled for the kernel); the new family's statistics."""
+        if not self.compiled:
+            new = self.reference.step(self.states[source], staggered, dt)
+            self.states[target] = new
+            self.statistics[target] = self._reference_statistics(new)
+            return self.statistics[target]
         kernels = self.kernels
         rows, columns = self.shapes[not staggered]
         first = GHOSTS if staggered else GHOSTS - 1
-        deepest = float(np.max(self.statistics[source][:, kernels.DEEPEST]))
+        deepest = float(np.max(self.statistics[source][:, DEEPEST]))
         step = kernels.Step(first, rows, columns, dt, self.grid.dx, self.grid.dy, deepest)
         statistics = self.statistics[target]
         numba.set_num_threads(self.threads)
@@ -178,27 +364,28 @@ class JiangTadmor:
         :meth:`JiangTadmorReference._pair`: ``(True, dt)`` or ``(False, the step to redo it
         with)``."""
         middle = self._step(0, 1, False, dt)
-        self._check_finite(middle, 1)
-        if self.model.depth_index is not None and np.min(middle[:, 2]) < 0.0:
+        self._check_finite(1, 1, dt)
+        if self._negative_depth(middle):
             return False, 0.5 * dt
         if self._courant_reached(middle, dt):
             return False, self.stable_dt(middle)
         end = self._step(1, 2, True, dt)
-        self._check_finite(end, 2)
-        if self.model.depth_index is not None and np.min(end[:, 2]) < 0.0:
+        self._check_finite(2, 2, 2.0 * dt)
+        if self._negative_depth(end):
             return False, 0.5 * dt
         return True, dt
 
-    def _check_finite(self, statistics: Array, buffer: int) -> None:
-        """A SchemeBreakdownError naming the first cell that is not finite, if any."""
-        if np.all(np.isfinite(statistics[:, :2])) and not np.any(np.isnan(statistics[:, 2])):
+    def _check_finite(self, buffer: int, step: int, elapsed: float) -> None:
+        """A :class:`_NotFiniteError` naming the first cell (in row order) of buffer ``buffer``
+        with a value that is not finite, or a wave speed, if any: the family reached ``step``
+        steps and ``elapsed`` time into the current pair."""
+        statistics = self.statistics[buffer]
+        if np.all(np.isfinite(statistics[:, [SPEED_X, SPEED_Y]])):
             return
-        rows, columns = self.shapes[buffer == 1]
-        values = self.states[buffer][:, GHOSTS : GHOSTS + rows, GHOSTS : GHOSTS + columns]
-        bad = np.argwhere(~np.isfinite(values))
-        where = "a wave speed" if bad.size == 0 else f"cell (row {bad[0][1]}, column {bad[0][2]})"
+        bad = np.argwhere(~np.all(np.isfinite(self._values(buffer)), axis=0))
+        where = "a wave speed" if bad.size == 0 else f"cell (row {bad[0][0]}, column {bad[0][1]})"
         family = "staggered" if buffer == 1 else "primary"
-        raise _NotFiniteError(f"{where} of the {family} family is not finite")
+        raise _NotFiniteError(f"{where} of the {family} family is not finite", step, elapsed)
 
     def advance(
         self,
@@ -207,35 +394,50 @@ class JiangTadmor:
         t_end: float,
         progress: Callable[[float, int], Any] | None = None,
     ) -> tuple[Array, float, int]:
-        """Advance primary-family values ``q`` (``(n_vars, ny, nx)``) from ``t`` to exactly
-        ``t_end``, as :meth:`JiangTadmorReference.advance`: returns the values (a new array),
-        the time and the number of steps; ``progress(t, steps)`` after every pair.
+        """Advance primary-family values from ``t`` to exactly ``t_end``, as
+        :meth:`JiangTadmorReference.advance`: step pairs of one ``dt``, a pair redone with half
+        its ``dt`` while a depth would become negative and with the staggered values' stable
+        ``dt`` if their Courant number would reach 1/2.
+
+        Parameters
+        ----------
+        q : ndarray
+            Primary-family values, ``(n_vars, ny, nx)``.
+        t, t_end : float
+            The start and the end time.
+        progress : callable, optional
+            Called as ``progress(t, steps)`` after every step pair.
+
+        Returns
+        -------
+        values : ndarray
+            The values at ``t_end`` (a new array).
+        t : float
+            ``t_end``.
+        steps : int
+            The number of steps taken.
 
         Raises
         ------
         SchemeBreakdownError
             If the time step falls below ``DT_FLOOR dx``, or a value or wave speed is not
-            finite (with the time, step and cell).
+            finite: the time and the step at which it became so (step 0: the start), the
+            family and the first such cell, as ``t=0.25, step 7: cell (row 4, column 2) of the
+            staggered family is not finite``.
         """
-        if not self.compiled:
-            return self.reference.advance(q, t, t_end)
-        rows, columns = self.shapes[False]
-        interior = (slice(None), slice(GHOSTS, GHOSTS + rows), slice(GHOSTS, GHOSTS + columns))
-        self.states[0][interior] = q
-        self.kernels.fill_ghosts(self.states[0], rows, columns, False, self.sides)
-        statistics = self.statistics[0]
-        numba.set_num_threads(self.threads)
-        self.kernels.family_statistics(self.states[0], rows, columns, self.params, statistics)
         steps = 0
         try:
-            self._check_finite(statistics, 0)
+            self._load(q, 0)
+            self._check_finite(0, 0, 0.0)
             while t < t_end:
                 t, steps = self._advance_pair(t, t_end, steps)
                 if progress is not None:
                     progress(t, steps)
         except _NotFiniteError as error:
-            raise SchemeBreakdownError(f"t={t:g}, step {steps}: {error}") from None
-        return self.states[0][interior].copy(), t, steps
+            raise SchemeBreakdownError(
+                f"t={t + error.elapsed:g}, step {steps + error.step}: {error}"
+            ) from None
+        return self._values(0).copy(), t, steps
 
     def _advance_pair(self, t: float, t_end: float, steps: int) -> tuple[float, int]:
         """One accepted step pair from ``t``; the new time and step count."""
@@ -259,5 +461,11 @@ class JiangTadmor:
 
 
 class _NotFiniteError(Exception):
-    """A value or wave speed of a new family is not finite (becomes a SchemeBreakdownError with
-    the time and step)."""
+    """A value or wave speed of a family is not finite, ``step`` steps and ``elapsed`` time into
+    the current step pair (0 and 0: the start); :meth:`JiangTadmor.advance` makes it a
+    SchemeBreakdownError with the time and the step."""
+
+    def __init__(self, message: str, step: int, elapsed: float) -> None:
+        super().__init__(message)
+        self.step = step
+        self.elapsed = elapsed

@@ -1,0 +1,222 @@
+"""The runner of 2D scenes: builds the grid, model and scheme, advances to every output time and
+collects the states, with their errors against the exact solution where one applies."""
+
+from __future__ import annotations
+
+import signal
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from conslaw import registry
+from conslaw.analysis import ErrorNorms
+from conslaw.errors import ConfigError, RunInterrupted, SchemeBreakdownError, StepLimitError
+from conslaw.exact import Unavailable
+from conslaw.exact2d import ExactSolution2D
+from conslaw.grid2d import Grid2D
+from conslaw.memory import available_bytes, run_bytes
+from conslaw.model import Model
+from conslaw.result2d import RunResult2D, State2D
+from conslaw.scene2d import Scene2D
+
+Array = NDArray[np.float64]
+
+#: Called with ``(t, steps)`` as the run advances.
+Progress2D = Callable[[float, int], None]
+
+
+def error_norms_2d(numerical: Array, exact: Array) -> ErrorNorms:
+    """``L1 = mean |q - qbar|``, ``L2 = sqrt(mean (q - qbar)^2)``, ``Linf = max |q - qbar|`` over
+    the cells of a uniform grid (the 1D norms of docs/equations.md, "Error norms", per unit
+    area)."""
+    difference = np.asarray(numerical, dtype=np.float64) - exact
+    return ErrorNorms(
+        l1=float(np.mean(np.abs(difference))),
+        l2=float(np.sqrt(np.mean(difference * difference))),
+        linf=float(np.max(np.abs(difference))),
+    )
+
+
+def build_2d(scene: Scene2D) -> tuple[Model, Grid2D, Any, Array]:
+    """The model, grid, scheme and initial cell averages of a 2D scene."""
+    model = scene.model_instance()
+    grid = Grid2D.from_bounds(
+        scene.x_min, scene.x_max, scene.nx, scene.y_min, scene.y_max, scene.ny
+    )
+    needed = run_bytes(scene.n_cells, model.n_vars, model.n_aux, len(scene.output_times) + 4)
+    room = available_bytes()
+    if room is not None and needed > room:
+        raise ConfigError(
+            f"n_cells = [{scene.nx}, {scene.ny}] with {len(scene.output_times)} output times "
+            f"needs about {needed / 2**30:.1f} GiB, and this process may use about "
+            f"{max(room, 0) / 2**30:.1f} GiB more; use fewer cells or output times"
+        )
+    scheme_class = registry.schemes_2d.get(scene.scheme)
+    scheme = scheme_class(
+        model,
+        registry.reconstructors.get(scene.reconstructor),
+        grid,
+        scene.boundaries,
+        scene.cfl,
+        **scene.scheme_options,
+    )
+    q0 = scheme.initial_values(scene.initial)
+    if q0 is None:
+        q0 = scene.initial.cell_averages(grid, model)
+    q0 = np.ascontiguousarray(q0, dtype=np.float64)
+    if not np.all(np.isfinite(q0)):
+        raise ConfigError("initial: the initial data are not finite (NaN or inf)")
+    admissible = model.is_admissible(q0.reshape(model.n_vars, -1))
+    if not admissible.all():
+        cell = int(np.flatnonzero(~admissible)[0])
+        row, column = divmod(cell, scene.nx)
+        raise ConfigError(
+            f"initial: cell (x index {column}, y index {row}) is not admissible for "
+            f"'{model.name}' ({model.admissible_rule})"
+        )
+    return model, grid, scheme, q0
+
+
+def exact_solution_2d(
+    scene: Scene2D, model: Model, grid: Grid2D
+) -> tuple[ExactSolution2D | None, str | None]:
+    """The exact solution the scene is compared with, or None and the reason why there is none
+    (checked up to ``t_end`` before the run)."""
+    if not scene.exact:
+        return None, "exact = false in the scene"
+    context = {**scene.boundaries, "t_end": scene.t_end}
+    try:
+        exact = model.exact_solution_2d(scene.initial, grid, context)
+    except (Unavailable, ConfigError) as why:
+        return None, str(why)
+    if exact is None:
+        return None, (
+            f"model '{model.name}' has no exact solution for initial condition "
+            f"'{scene.initial.kind}'"
+        )
+    return exact, None
+
+
+def simulate_2d(
+    scene: Scene2D,
+    progress: Progress2D | None = None,
+    on_output: Callable[[RunResult2D], None] | None = None,
+    notice: Callable[[str], None] | None = None,
+) -> RunResult2D:
+    """Run a validated 2D scene to every output time.
+
+    ``progress(t, steps)`` after every step pair, ``on_output(result)`` at every output time
+    (the result so far), ``notice(message)`` before a first compile. A Ctrl-C becomes
+    :class:`~conslaw.errors.RunInterrupted`; more than ``max_steps`` steps a
+    :class:`~conslaw.errors.StepLimitError`; a breakdown keeps the states reached before it.
+    """
+    model, grid, scheme, q = build_2d(scene)
+    exact, note = exact_solution_2d(scene, model, grid)
+    result = RunResult2D(scene, model, grid, State2D(0.0, q), exact_solution=exact, exact_note=note)
+    reached = [0.0, 0]
+    last_output: float | None = None
+
+    def report(t: float, steps: int) -> None:
+        total = result.steps + steps
+        reached[:] = [t, total]
+        if total > scene.max_steps and t < scene.t_end:
+            raise StepLimitError(
+                f"scene key 'max_steps' = {scene.max_steps} reached: the run stopped at "
+                f"t={t:.6g} of t_end={scene.t_end:g} after {total} steps"
+            )
+        if progress is not None:
+            progress(t, total)
+
+    try:
+        if notice is not None and scheme.needs_compile():
+            notice(
+                f"compiling the {scene.scheme} kernels for {scene.model} (the first run of this "
+                "kind only; cached for later runs)"
+            )
+        started = time.perf_counter()
+        scheme.compile()
+        result.compile_seconds = time.perf_counter() - started
+        t = 0.0
+        for t_out in scene.output_times:
+            if t_out > t:
+                started = time.perf_counter()
+                try:
+                    q, t, steps = scheme.advance(q, t, t_out, report)
+                except SchemeBreakdownError as error:
+                    error.completed_states = list(result.states)
+                    raise
+                result.solve_seconds += time.perf_counter() - started
+                result.steps += steps
+            _record(result, State2D(t, q))
+            if on_output is not None:
+                on_output(result)
+            last_output = t
+    except KeyboardInterrupt as interrupt:
+        number = getattr(interrupt, "signal_number", signal.SIGINT)
+        raise RunInterrupted(reached[0], int(reached[1]), last_output, number) from None
+    return result
+
+
+def _record(result: RunResult2D, state: State2D) -> None:
+    """Append an output state with its exact cell averages and errors."""
+    result.states.append(state)
+    exact = None
+    if result.exact_solution is not None:
+        grid = result.grid
+        exact = np.asarray(result.exact_solution.cell_averages(grid.x.edges, grid.y.edges, state.t))
+    result.exact.append(exact)
+    result.errors.append(None if exact is None else error_norms_2d(state.q[0], exact[0]))
+
+
+def run_2d(
+    scene: str | Path | Scene2D,
+    out: str | Path | None = None,
+    progress: Progress2D | None = None,
+    **overrides: Any,
+) -> RunResult2D:
+    """Run a 2D scene from Python (as :func:`conslaw.run` for 1D scenes).
+
+    Parameters
+    ----------
+    scene : str, Path or Scene2D
+        A built-in 2D scene name (``conslaw list``), a path to a ``.toml`` file, or a Scene2D.
+    out : path, optional
+        Folder for the files the scene asks for (``output.formats``: npz, xdmf), the resolved
+        scene and the figures; nothing is written without it.
+    **overrides
+        Scene keys to override, e.g. ``n_cells=[200, 200]``; nested keys as
+        ``**{"boundary.left": "wall"}``.
+
+    Examples
+    --------
+    >>> result = conslaw.run_2d("sw2d-thacker", n_cells=[50, 50])   # doctest: +SKIP
+    >>> result.errors[-1].l1                                       # doctest: +SKIP
+    """
+    from conslaw.scene2d import load_scene_2d
+
+    if isinstance(scene, Scene2D):
+        if overrides:
+            raise ConfigError("overrides need a scene name or file, not a Scene2D object")
+        resolved = scene
+    else:
+        flat = {key.replace("__", "."): value for key, value in overrides.items()}
+        resolved = load_scene_2d(scene, flat)
+    if out is None:
+        return simulate_2d(resolved, progress)
+    from conslaw.output.files import check_output_dir
+    from conslaw.output.writer2d import RunWriter2D
+    from conslaw.plotting2d import write_figures_2d
+
+    check_output_dir(Path(out))
+    writer = RunWriter2D(Path(out), resolved, write_figures_2d)
+    try:
+        writer.claim()
+        result = simulate_2d(resolved, progress, writer)
+        writer.finish(result)
+    finally:
+        writer.release()
+    return result
