@@ -424,7 +424,12 @@ def build_parser() -> argparse.ArgumentParser:
         "convergence", help="errors, observed orders and run times over a list of N"
     )
     study.add_argument("scene", help="a scene whose model has an exact solution")
-    study.add_argument("--cells", required=True, help="comma-separated N, e.g. 100,200,400")
+    study.add_argument(
+        "--cells",
+        required=True,
+        help="comma-separated N, e.g. 100,200,400 (a 2D scene: cells along x, y keeps the "
+        "scene's aspect ratio)",
+    )
     study.add_argument(
         "--reconstructor", help="comma-separated reconstructors (default: the scene's)"
     )

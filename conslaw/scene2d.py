@@ -75,7 +75,8 @@ KEY_HELP_2D: dict[str, str] = {
     "n_cells": "[nx, ny]: cells along x and along y, integers >= 4",
     "y_min": "lower end of the domain in y",
     "y_max": "upper end of the domain in y",
-    "boundary": "table: left, right, bottom, top = periodic, outflow or wall",
+    "boundary": "table: left, right, bottom, top = periodic, outflow, wall or "
+    '{ kind = "inflow", state = [...] } (a fixed state in the ghost cells)',
     "initial": "table: kind (dam-break, circle, or the model's own) and its options",
     "output": "table: formats = a list of npz (states.npz), xdmf (solution.xdmf + HDF5, "
     "quadrilateral cells); plot = PNG maps and cuts at the end (bool)",
@@ -108,6 +109,8 @@ class Scene2D:
     plot: bool
     scheme_options: Mapping[str, Any] = field(default_factory=dict)
     max_steps: int = DEFAULTS_2D["max_steps"]
+    #: The state of every inflow side.
+    inflow: Mapping[str, tuple[float, ...]] = field(default_factory=dict)
     #: The scene file it was read from ("" for a scene built in Python).
     source_file: str = ""
     validated_model: tuple[Mapping[str, Any], Model] | None = field(
@@ -143,7 +146,14 @@ class Scene2D:
             "exact": self.exact,
             "max_steps": self.max_steps,
             "parameters": dict(self.parameters),
-            "boundary": dict(self.boundaries),
+            "boundary": {
+                side: (
+                    {"kind": "inflow", "state": list(self.inflow[side])}
+                    if side in self.inflow
+                    else kind
+                )
+                for side, kind in self.boundaries.items()
+            },
             "initial": self.initial.to_table(),
             "output": {"formats": list(self.output_formats), "plot": self.plot},
         }
@@ -228,18 +238,39 @@ def _times(table: Mapping[str, Any]) -> tuple[float, list[float]]:
     return t_end, times
 
 
-def _boundaries(value: Any, kinds: tuple[str, ...]) -> dict[str, str]:
+def _boundaries(
+    value: Any, kinds: tuple[str, ...]
+) -> tuple[dict[str, str], dict[str, tuple[float, ...]]]:
+    """The kind of every side, and the state of every inflow side
+    (``{ kind = "inflow", state = [...] }``)."""
     given = _table(value, "boundary", SIDES_2D)
-    sides = {side: given.get(side, "outflow") for side in SIDES_2D}
-    for side, kind in sides.items():
-        if not isinstance(kind, str) or kind not in kinds:
+    sides: dict[str, str] = {}
+    inflow: dict[str, tuple[float, ...]] = {}
+    for side in SIDES_2D:
+        entry = given.get(side, "outflow")
+        if isinstance(entry, Mapping):
+            entry = dict(_table(entry, f"boundary.{side}", ("kind", "state")))
+            state = entry.get("state")
+            if entry.get("kind") != "inflow" or not isinstance(state, list):
+                raise ConfigError(
+                    f'boundary.{side}: a table is {{ kind = "inflow", state = [...] }}, '
+                    f"got {entry!r}"
+                )
+            inflow[side] = tuple(finite_number(v, f"boundary.{side}.state") for v in state)
+            entry = "inflow"
+        if not isinstance(entry, str) or entry not in kinds:
             raise ConfigError(
-                f"boundary.{side}: {kind!r} is not one of {', '.join(kinds)} (2D scenes)"
+                f"boundary.{side}: {entry!r} is not one of {', '.join(kinds)} (2D scenes)"
             )
+        if entry == "inflow" and side not in inflow:
+            raise ConfigError(
+                f'boundary.{side}: an inflow side is written {{ kind = "inflow", state = [...] }}'
+            )
+        sides[side] = entry
     for low, high in (("left", "right"), ("bottom", "top")):
         if (sides[low] == "periodic") != (sides[high] == "periodic"):
             raise ConfigError(f"boundary.{low} and boundary.{high}: periodic on both or neither")
-    return sides
+    return sides, inflow
 
 
 def _output(value: Any) -> tuple[list[str], bool]:
@@ -294,7 +325,7 @@ def validate_2d(name: str, raw: Mapping[str, Any], model_object: Model | None = 
         raise ConfigError(f"scene key 'max_steps': expected an integer >= 1, got {max_steps!r}")
     if not 1 <= max_steps <= MAX_STEPS:
         raise ConfigError(f"scene key 'max_steps': expected 1 to {MAX_STEPS}, got {max_steps}")
-    boundaries = _boundaries(table["boundary"], scheme_class.boundary_kinds)
+    boundaries, inflow = _boundaries(table["boundary"], scheme_class.boundary_kinds)
     scheme_options = _scheme_options(table["scheme_options"], scheme_class)
     parameters = dict(parameters)
     if model_object is None or model_object.name != model:
@@ -307,7 +338,7 @@ def validate_2d(name: str, raw: Mapping[str, Any], model_object: Model | None = 
         x_max=x_max, y_min=y_min, y_max=y_max, t_end=t_end, output_times=tuple(times),
         exact=table["exact"], boundaries=boundaries, initial=initial,
         output_formats=tuple(formats), plot=plot, scheme_options=scheme_options,
-        max_steps=max_steps, validated_model=(parameters, model_object),
+        max_steps=max_steps, inflow=inflow, validated_model=(parameters, model_object),
     )  # fmt: skip
 
 

@@ -62,6 +62,7 @@ def build_2d(scene: Scene2D) -> tuple[Model, Grid2D, Any, Array]:
         grid,
         scene.boundaries,
         scene.cfl,
+        inflow=scene.inflow,
         **scene.scheme_options,
     )
     q0 = scheme.initial_values(scene.initial)

@@ -242,3 +242,88 @@ def test_conslaw_run_with_a_bad_2d_key_is_one_line_exit_2(
 def test_the_2d_models_and_scheme_are_registered() -> None:
     assert {"shallow-water-2d", "burgers-2d"} <= set(registry.models.names())
     assert registry.schemes_2d.names() == ["jiang-tadmor"]
+
+
+def test_convergence_on_a_2d_scene_measures_orders_and_refuses_without_exact() -> None:
+    from conslaw.studies.convergence import convergence_study
+
+    study = convergence_study(
+        "burgers2d-smooth", [16, 32], ["mc"], None, repeats=1, measure_import=False
+    )
+    assert [row.n_cells for row in study.rows] == [16, 32]
+    order = study.rows[1].order_l1
+    assert order is not None and order > 1.5, study.table()  # smooth: second order
+    with pytest.raises(ConfigError, match="no exact solution"):
+        convergence_study("sw2d-radial-dam-break", [16, 32], repeats=1, measure_import=False)
+
+
+# ------------------------------------------------------------------ inflow sides
+@pytest.mark.parametrize("reconstructor", ["mc", "weno5"])
+def test_inflow_sides_in_the_kernel_are_the_reference_bit_for_bit(reconstructor: str) -> None:
+    from conslaw.schemes.jiang_tadmor import JiangTadmor, JiangTadmorReference
+    from conslaw_models.shallow_water_2d import ShallowWater2D
+
+    grid = Grid2D.from_bounds(0.0, 1.0, 20, 0.0, 1.0, 16)
+    boundaries = {"left": "inflow", "right": "outflow", "bottom": "inflow", "top": "wall"}
+    inflow = {"left": [1.5, 0.6, 0.1], "bottom": [1.2, 0.0, 0.3]}
+    limiter = registry.reconstructors.get(reconstructor)
+    model = ShallowWater2D()
+    x, y = grid.centres()
+    q = np.zeros((3, 16, 20))
+    q[0] = 1.0 + 0.2 * np.sin(6.0 * x)[None, :] * np.cos(5.0 * y)[:, None]
+    q[1] = 0.1 * q[0]
+    compiled = JiangTadmor(model, limiter, grid, boundaries, inflow=inflow, threads=1)
+    reference = JiangTadmorReference(model, limiter, grid, boundaries, inflow=inflow)
+    assert compiled.compiled
+    q_compiled, t_compiled, steps_compiled = compiled.advance(q, 0.0, 0.3)
+    q_reference, t_reference, steps_reference = reference.advance(q, 0.0, 0.3)
+    assert (t_compiled, steps_compiled) == (t_reference, steps_reference)
+    np.testing.assert_array_equal(q_compiled, q_reference)
+    # The inflow reaches the domain: the cells next to the left side have moved towards it.
+    assert abs(q_compiled[0, 8, 0] - 1.5) < abs(q[0, 8, 0] - 1.5)
+
+
+def test_an_inflow_scene_along_x_equals_the_1d_inflow_run(tmp_path: Path) -> None:
+    one_d = simulate(
+        dataclasses.replace(
+            load_scene(
+                "dam-break-wet",
+                {
+                    "n_cells": 80, "t_end": 1.0,
+                    "boundary.left": {"kind": "inflow", "state": [3.5, 1.0]},
+                },
+            ),
+            plot=False,
+        )
+    )  # fmt: skip
+    scene = small(
+        "sw2d-dam-break-x",
+        **{
+            "n_cells": [80, 4], "t_end": 1.0, "y_max": 4.0,  # dy > dx: x sets the step
+            "boundary.left": {"kind": "inflow", "state": [3.5, 1.0, 0.0]},
+        },
+    )  # fmt: skip
+    result = simulate_2d(scene)
+    assert result.steps == one_d.steps
+    assert result.exact_solution is None and "outflow" in str(result.exact_note)
+    for row in range(4):
+        np.testing.assert_allclose(result.final.q[[0, 1], row, :], one_d.final.q, atol=1e-13)
+    written = tmp_path / "inflow.toml"
+    written.write_text(tomli_w.dumps(scene.to_table()))
+    assert load_any_scene(written).inflow == {"left": (3.5, 1.0, 0.0)}
+
+
+@pytest.mark.parametrize(
+    ("side", "message"),
+    [
+        ({"kind": "inflow"}, "boundary.left"),
+        ({"kind": "inflow", "state": [1.0, 0.0]}, "boundary.left: the inflow state must be 3"),
+        ({"kind": "inflow", "state": [-1.0, 0.0, 0.0]}, "not admissible"),
+        ({"kind": "wall", "state": [1.0, 0.0, 0.0]}, "boundary.left"),
+        ("inflow", "boundary.left: an inflow side is written"),
+    ],
+)
+def test_a_bad_inflow_side_names_it(side: object, message: str) -> None:
+    with pytest.raises(ConfigError) as caught:
+        simulate_2d(small("sw2d-dam-break-x", **{"boundary.left": side}))
+    assert message in str(caught.value), str(caught.value)

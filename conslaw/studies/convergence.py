@@ -24,10 +24,20 @@ from pathlib import Path
 from typing import Any
 
 from conslaw.analysis import observed_orders
-from conslaw.config import Scene, load_scene, scheme_variants
+from conslaw.config import (
+    Scene,
+    is_two_dimensional,
+    load_scene,
+    read_scene_file,
+    scene_path,
+    scheme_variants,
+)
 from conslaw.errors import ConfigError, shown
 from conslaw.grid import Grid
+from conslaw.grid2d import Grid2D
+from conslaw.scene2d import Scene2D, load_scene_2d
 from conslaw.simulation import exact_solution_for, simulate
+from conslaw.simulation2d import exact_solution_2d, simulate_2d
 
 #: Most solves per N (``--repeats``).
 MAX_REPEATS = 1000
@@ -184,6 +194,11 @@ def convergence_study(
         raise ConfigError(
             f"--repeats: expected an integer >= 1 and <= {MAX_REPEATS}, got {shown(repeats)}"
         )
+    if is_two_dimensional(_model_of(scene, overrides)):
+        study = _study_2d(scene, cells, reconstructors, schemes, repeats, overrides)
+        if measure_import:
+            study.import_seconds = measure_import_seconds()
+        return study
     base, variants = _study_variants(scene, cells[0], reconstructors, schemes, overrides)
     study = ConvergenceStudy(str(base.name), base.t_end, repeats)
     for variant in variants:
@@ -228,6 +243,76 @@ def convergence_study(
             )  # fmt: skip
     if measure_import:
         study.import_seconds = measure_import_seconds()
+    return study
+
+
+def _model_of(scene: str | Path, overrides: Mapping[str, Any] | None) -> dict[str, Any]:
+    """``{"model": name}`` of a scene file after the overrides."""
+    _, path = scene_path(scene)
+    return {"model": (overrides or {}).get("model", read_scene_file(path).get("model"))}
+
+
+def _study_2d(
+    scene: str | Path,
+    cells: Sequence[int],
+    reconstructors: Sequence[str] | None,
+    schemes: Sequence[str] | None,
+    repeats: int,
+    overrides: Mapping[str, Any] | None,
+) -> ConvergenceStudy:
+    """The study of a 2D scene: ``N`` is the number of cells along x; along y the scene's
+    aspect ratio is kept (``ny = max(4, round(N ny0 / nx0))``). Every variant is validated and
+    checked to have an exact solution before any work is done."""
+    base = load_scene_2d(scene, overrides)
+    variants = []
+    for scheme in schemes or [base.scheme]:
+        for reconstructor in reconstructors or [base.reconstructor]:
+            changed = {**(overrides or {}), "scheme": scheme, "reconstructor": reconstructor}
+            variants.append(load_scene_2d(scene, changed))
+
+    def sized(variant: Scene2D, n: int) -> Scene2D:
+        ny = max(4, round(n * variant.ny / variant.nx))
+        return replace(variant, nx=n, ny=ny, output_times=(variant.t_end,), exact=True)
+
+    for variant in variants:
+        small = sized(variant, cells[0])
+        model = small.model_instance()
+        grid = Grid2D.from_bounds(
+            small.x_min, small.x_max, small.nx, small.y_min, small.y_max, small.ny
+        )
+        exact, why = exact_solution_2d(small, model, grid)
+        if exact is None:
+            raise ConfigError(
+                f"scene '{base.name}' has no exact solution to measure against ({why}); "
+                "convergence needs one"
+            )
+    study = ConvergenceStudy(str(base.name), base.t_end, repeats)
+    for variant in variants:
+        key = f"{variant.scheme}/{variant.reconstructor}"
+        started = time.perf_counter()
+        simulate_2d(sized(variant, cells[0]))
+        study.warmup_seconds[key] = time.perf_counter() - started
+        errors: list[float] = []
+        for n in cells:
+            timings = []
+            for _ in range(repeats):
+                result = simulate_2d(sized(variant, n))
+                timings.append(result.solve_seconds)
+            norms = result.errors[-1]
+            assert norms is not None
+            errors.append(norms.l1)
+            order = (
+                None
+                if len(errors) < 2
+                else observed_orders(cells[-2 + len(errors) : len(errors)], errors[-2:])[0]
+            )
+            study.rows.append(
+                ConvergenceRow(
+                    variant.scheme, variant.reconstructor, n, result.steps,
+                    statistics.median(timings), min(timings), max(timings),
+                    norms.l1, norms.l2, norms.linf, order,
+                )
+            )  # fmt: skip
     return study
 
 

@@ -89,6 +89,7 @@ WORK_ROWS = 4 * NV + 3 * MOMENTA
 PERIODIC = 0
 OUTFLOW = 1
 WALL = 2
+INFLOW = 3
 # The per-row statistics (:func:`row_statistics`) are in the columns SPEED_X, SPEED_Y, LOWEST,
 # DEEPEST of conslaw.schemes.jiang_tadmor.constants (shared with the scheme's time loop).
 #: Index of the reconstructor's code in the parameter vector.
@@ -97,12 +98,14 @@ SLOPE_CODE = NPARAMS
 
 class Sides(NamedTuple):
     """The kinds of the four sides (``left, right, bottom, top``; :data:`PERIODIC`,
-    :data:`OUTFLOW`, :data:`WALL`) and the signs of every variable mirrored across an x wall and
-    across a y wall."""
+    :data:`OUTFLOW`, :data:`WALL`, :data:`INFLOW`), the signs of every variable mirrored across
+    an x wall and across a y wall, and the state of every inflow side (``(4, NV)``, a row per
+    side, unused for the other kinds)."""
 
     kinds: np.ndarray
     signs_x: np.ndarray
     signs_y: np.ndarray
+    inflow: np.ndarray
 
 
 class Step(NamedTuple):
@@ -156,6 +159,8 @@ def fill_ghosts(w, rows, columns, staggered, sides):
                 source = ghost_source(i, columns, kind, staggered, end == 0)
                 for v in range(NV):
                     value = w[v, k, source]
+                    if kind == INFLOW:
+                        value = sides.inflow[end, v]
                     w[v, k, i] = value * sides.signs_x[v] if kind == WALL else value
     for g in range(NG):
         for end in range(2):
@@ -163,6 +168,10 @@ def fill_ghosts(w, rows, columns, staggered, sides):
             kind = kinds[2 + end]
             source = ghost_source(i, rows, kind, staggered, end == 0)
             for v in range(NV):
+                if kind == INFLOW:
+                    for j in range(columns + 2 * NG):
+                        w[v, i, j] = sides.inflow[2 + end, v]
+                    continue
                 sign = sides.signs_y[v] if kind == WALL else 1.0
                 for j in range(columns + 2 * NG):
                     w[v, i, j] = w[v, source, j] * sign if kind == WALL else w[v, source, j]

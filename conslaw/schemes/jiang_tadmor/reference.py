@@ -54,7 +54,7 @@ a still cell's quarters may be empty where the predicted fluxes drain nothing
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 from numpy.typing import NDArray
@@ -84,7 +84,7 @@ GHOSTS = STENCIL_HALF_WIDTH + 1
 #: Courant number per direction that a step must stay below.
 CFL_LIMIT = 0.5
 SIDES = ("left", "right", "bottom", "top")
-KINDS = ("periodic", "outflow", "wall")
+KINDS = ("periodic", "outflow", "wall", "inflow")
 #: A cell is still (its bed read as still water over flat quarters, its depth's quarters free to
 #: be empty) while every velocity is below this fraction of its wave speed.
 STILL = 1e-9
@@ -152,6 +152,36 @@ def quarter_velocity_outside(
     return outside
 
 
+def inflow_states(
+    model: Model, boundaries: Mapping[str, str], given: Mapping[str, Sequence[float]]
+) -> dict[str, Array]:
+    """The state of every inflow side (``boundary.SIDE = { kind = "inflow", state = [...] }``),
+    checked: one finite number per variable, admissible for ``model``; a state for a side that
+    is not an inflow, or an inflow side without one, is a ConfigError naming the side."""
+    states = {}
+    for side, kind in boundaries.items():
+        if (kind == "inflow") != (side in given):
+            raise ConfigError(
+                f"boundary.{side}: an inflow side needs state = [...] with one number per "
+                f"variable ({', '.join(model.variables)}), and only an inflow side has one"
+            )
+        if kind != "inflow":
+            continue
+        state = np.asarray(given[side], dtype=np.float64).reshape(-1)
+        if state.shape != (model.n_vars,) or not np.all(np.isfinite(state)):
+            raise ConfigError(
+                f"boundary.{side}: the inflow state must be {model.n_vars} finite numbers "
+                f"({', '.join(model.variables)}), got {list(given[side])!r}"
+            )
+        if not model.is_admissible(state[:, None]).all():
+            raise ConfigError(
+                f"boundary.{side}: the inflow state {state.tolist()} is not admissible for "
+                f"'{model.name}' ({model.admissible_rule})"
+            )
+        states[side] = state
+    return states
+
+
 class JiangTadmorReference:
     """The Jiang–Tadmor step for a two-dimensional model (``Model.n_dims == 2``).
 
@@ -165,9 +195,12 @@ class JiangTadmorReference:
         Limits the slopes in x and in y separately (any of the registry's).
     grid : Grid2D
     boundaries : mapping
-        ``left``, ``right``, ``bottom``, ``top`` -> ``"periodic"``, ``"outflow"`` or ``"wall"``.
+        ``left``, ``right``, ``bottom``, ``top`` -> ``"periodic"``, ``"outflow"``, ``"wall"``
+        or ``"inflow"``.
     cfl : float
         Courant number per direction, in (0, 1/2).
+    inflow : mapping, optional
+        The state of every inflow side (its ghost cells hold it; :func:`inflow_states`).
     """
 
     def __init__(
@@ -177,6 +210,7 @@ class JiangTadmorReference:
         grid: Grid2D,
         boundaries: Mapping[str, str],
         cfl: float = 0.45,
+        inflow: Mapping[str, Sequence[float]] | None = None,
     ) -> None:
         if model.n_dims != 2:
             raise ConfigError(f"jiang-tadmor needs a 2D model; '{model.name}' is 1D")
@@ -199,6 +233,7 @@ class JiangTadmorReference:
                 raise ConfigError(f"boundary.{low} and boundary.{high}: periodic on both or none")
         if not 0.0 < cfl < CFL_LIMIT:
             raise ConfigError(f"cfl must be in (0, {CFL_LIMIT}), got {cfl!r}")
+        self.inflow = inflow_states(model, boundaries, inflow or {})
         self.model = model
         self.reconstructor = reconstructor
         self.grid = grid
@@ -229,6 +264,7 @@ class JiangTadmorReference:
             staggered,
             model.aux_reflect_signs or ones,
             model.aux_reflect_signs_y or model.aux_reflect_signs or ones,
+            states=False,
         )
 
     def still_water(self, surface: float) -> Array:
@@ -257,11 +293,13 @@ class JiangTadmorReference:
         staggered: bool,
         signs_x: tuple[float, ...] | None = None,
         signs_y: tuple[float, ...] | None = None,
+        states: bool = True,
     ) -> Array:
         """``q`` (one family, ``(n_vars, rows, columns)``) with GHOSTS ghost cells on every
-        side: a periodic copy, the edge cell repeated (outflow), or the mirror image (wall),
-        with ``signs_x`` across x walls and ``signs_y`` across y walls (default: the model's
-        ``reflect_signs`` and ``reflect_signs_y``)."""
+        side: a periodic copy, the edge cell repeated (outflow), the mirror image (wall), with
+        ``signs_x`` across x walls and ``signs_y`` across y walls (default: the model's
+        ``reflect_signs`` and ``reflect_signs_y``), or the side's inflow state (inflow; with
+        ``states = False``, for coefficients, the edge cell as at an outflow)."""
         model = self.model
         across_x = np.asarray(signs_x or model.reflect_signs, dtype=np.float64)
         across_y = np.asarray(
@@ -279,8 +317,18 @@ class JiangTadmorReference:
                 width[axis] = (GHOSTS, 0) if end == 0 else (0, GHOSTS)
                 kind = self.boundaries[side]
                 # A wall mirrors about the face, or about the centre of a staggered end cell.
-                mode = "edge" if kind == "outflow" else "reflect" if staggered else "symmetric"
+                mode = (
+                    "edge"
+                    if kind in ("outflow", "inflow")
+                    else "reflect"
+                    if staggered
+                    else "symmetric"
+                )
                 w = np.pad(w, width, mode=mode)  # type: ignore[call-overload]
+                if kind == "inflow" and states:
+                    ghosts = [slice(None)] * 3
+                    ghosts[axis] = slice(0, GHOSTS) if end == 0 else slice(-GHOSTS, None)
+                    w[tuple(ghosts)] = self.inflow[side].reshape(-1, 1, 1)
                 if kind == "wall":
                     ghosts = [slice(None)] * 3
                     ghosts[axis] = slice(0, GHOSTS) if end == 0 else slice(-GHOSTS, None)

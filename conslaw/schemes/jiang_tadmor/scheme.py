@@ -13,7 +13,7 @@ and a check of every new family for values and wave speeds that are not finite.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any, ClassVar
 
 import numba
@@ -89,7 +89,7 @@ class JiangTadmor:
 
     Parameters
     ----------
-    model, reconstructor, grid, boundaries, cfl
+    model, reconstructor, grid, boundaries, cfl, inflow
         As :class:`~conslaw.schemes.jiang_tadmor.reference.JiangTadmorReference` (which checks
         them).
     threads : int, optional
@@ -137,8 +137,9 @@ class JiangTadmor:
         cfl: float = 0.45,
         threads: int | None = None,
         chunks: int | None = None,
+        inflow: Mapping[str, Sequence[float]] | None = None,
     ) -> None:
-        self.reference = JiangTadmorReference(model, reconstructor, grid, boundaries, cfl)
+        self.reference = JiangTadmorReference(model, reconstructor, grid, boundaries, cfl, inflow)
         self.model, self.grid, self.cfl = model, grid, float(cfl)
         available = self.available_threads()
         self.threads = available if threads is None else int(threads)
@@ -175,11 +176,16 @@ class JiangTadmor:
         kinds = np.array([KINDS.index(boundaries[side]) for side in SIDES], dtype=np.int64)
         signs_x = np.asarray(model.reflect_signs, dtype=np.float64)
         signs_y = np.asarray(model.reflect_signs_y or model.reflect_signs, dtype=np.float64)
-        self.sides = self.kernels.Sides(kinds, signs_x, signs_y)
+        inflow = np.zeros((len(SIDES), model.n_vars))
+        for index, side in enumerate(SIDES):
+            if side in self.reference.inflow:
+                inflow[index] = self.reference.inflow[side]
+        self.sides = self.kernels.Sides(kinds, signs_x, signs_y, inflow)
         if [KINDS.index(k) for k in KINDS] != [
             self.kernels.PERIODIC,
             self.kernels.OUTFLOW,
             self.kernels.WALL,
+            self.kernels.INFLOW,
         ]:  # the kernel's codes of the kinds are the reference's order
             raise AssertionError("side kinds out of order")
 
