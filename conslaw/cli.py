@@ -263,6 +263,12 @@ def _print_summary_2d(scene: Scene2D, result: Any) -> None:
             f"|{model.variables[v]}| {float(abs(result.final.q[v]).max()):.2e}" for v in momenta
         )
         print(f"  largest momenta at t={result.final.t:g}: {largest}")
+    if scene.initial.kind == "still-water":
+        change = float(abs(result.final.q - result.initial.q).max())
+        print(
+            f"  largest change of any value from t=0: {change:.2e} (water at rest stays at "
+            "rest; an error above is the sampling of the bed in the cell averages at t=0)"
+        )
 
 
 def _print_summary(scene: Scene, result: RunResult) -> None:

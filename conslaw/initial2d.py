@@ -45,7 +45,8 @@ INITIAL_KINDS_2D: dict[str, tuple[tuple[str, ...], dict[str, Any], str]] = {
     "dam-break": (
         ("states",),
         {"normal": [1.0, 0.0], "position": 0.0, "period": 0.0},
-        "two constant states either side of the line a x + b y = position (or stripes)",
+        "states[0] where a x + b y < position (normal = [a, b]), states[1] beyond; with "
+        "period P > 0, stripes: states[0] where (a x + b y - position) mod P < P/2",
     ),
     "circle": (
         ("centre", "radius", "inside", "outside"),

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -74,13 +74,7 @@ class RunResult:
         in :attr:`states`; the whole record would fill a screen)."""
         if not self.states:
             return f"<RunResult {self.scene.name}: no output yet>"
-        error = self.headline_error()
-        shown = "no exact solution" if error is None else f"L1 error {error:.4g}"
-        return (
-            f"<RunResult {self.scene.name}: {self.scene.model}, {self.scene.scheme}, "
-            f"N={self.grid.n_cells}, {len(self.states)} outputs to t={self.final.t:g}, "
-            f"{self.steps} steps, {shown}>"
-        )
+        return run_line(self, "RunResult", f"N={self.grid.n_cells}")
 
     @property
     def final(self) -> State:
@@ -159,3 +153,15 @@ class RunResult:
         """L1 error of variable 0 at ``t_end`` against the exact cell averages (None if unknown)."""
         error = self.errors[-1]
         return None if error is None else error.l1
+
+
+def run_line(result: Any, kind: str, cells: str) -> str:
+    """``<kind scene: model, scheme, cells, outputs to t, steps, headline error>``: the one-line
+    ``repr`` of a 1D or 2D run result (``result.scene``, ``.states``, ``.final``, ``.steps``,
+    ``.headline_error()``)."""
+    error = result.headline_error()
+    shown = "no exact solution" if error is None else f"L1 error {error:.4g}"
+    return (
+        f"<{kind} {result.scene.name}: {result.scene.model}, {result.scene.scheme}, {cells}, "
+        f"{len(result.states)} outputs to t={result.final.t:g}, {result.steps} steps, {shown}>"
+    )

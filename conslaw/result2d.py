@@ -9,6 +9,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
+from conslaw.result import run_line
+
 if TYPE_CHECKING:
     from conslaw.analysis import ErrorNorms
     from conslaw.exact2d import ExactSolution2D
@@ -27,10 +29,26 @@ class State2D:
     q: Array
 
 
-@dataclass
+@dataclass(repr=False)
 class RunResult2D:
     """What a 2D run produced: the states at the output times and their comparison with the
-    exact solution (None where there is none)."""
+    exact solution (None where there is none).
+
+    Attributes
+    ----------
+    states : list of State2D
+        The cell averages at every output time (``state.t``), the last at ``t_end``.
+    exact : list of ndarray or None
+        Exact cell averages at the same times (None without an exact solution).
+    errors : list of ErrorNorms or None
+        Error norms of variable 0 against the exact cell averages at the same times
+        (docs/equations.md, "Error norms", with the mean over cells in place of the sum times
+        ``dx``).
+    steps : int
+        Time steps taken.
+    solve_seconds, compile_seconds : float
+        Wall time of the time loop, and of compiling the kernels (0 when they were cached).
+    """
 
     scene: Scene2D
     model: Model
@@ -44,6 +62,18 @@ class RunResult2D:
     steps: int = 0
     solve_seconds: float = 0.0
     compile_seconds: float = 0.0
+
+    def __repr__(self) -> str:
+        """One line: the scene, where the run got to and its headline error (the arrays are
+        in :attr:`states`)."""
+        ny, nx = self.grid.shape
+        return run_line(self, "RunResult2D", f"{nx} x {ny} cells")
+
+    def headline_error(self) -> float | None:
+        """L1 error of variable 0 at the last output time against the exact cell averages
+        (None if there is no exact solution or no output yet)."""
+        error = self.errors[-1] if self.errors else None
+        return None if error is None else error.l1
 
     @property
     def final(self) -> State2D:

@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING, Any
 
 from conslaw import registry
 from conslaw.config import (
+    DEFAULTS,
     MAX_STEPS,
     REQUIRED,
     Scene,
@@ -71,7 +72,9 @@ KEY_HELP_2D: dict[str, str] = {
     "scheme": "registered 2D scheme (built in: jiang-tadmor)",
     "scheme_options": "jiang-tadmor: threads (default: every core) and chunks of rows per step "
     "(default: 2 per thread), integers >= 1; the results do not depend on them",
-    "cfl": "target Courant number per direction, 0 < cfl < 0.5 (Jiang & Tadmor 1998)",
+    "cfl": "target Courant number per direction, 0 < cfl < 0.5 (stable; Jiang & Tadmor 1998); "
+    "values stay within the initial range only with none at <= 0.25 or minmod at <= 0.125 "
+    '(docs/design.md, "The 2D time step and the maximum principle")',
     "n_cells": "[nx, ny]: cells along x and along y, integers >= 4",
     "y_min": "lower end of the domain in y",
     "y_max": "upper end of the domain in y",
@@ -347,6 +350,11 @@ def load_scene_2d(name_or_path: str | Path, overrides: Mapping[str, Any] | None 
     name, path = scene_path(name_or_path)
     raw = read_scene_file(path)
     table = apply_overrides(raw, overrides or {}, DEFAULTS_2D)
+    if not model_dimension(name, table) == 2:
+        raise ConfigError(
+            f"scene '{name}' is one-dimensional (model '{table['model']}'): run it with "
+            "conslaw.run or read it with conslaw.config.load_scene (conslaw run takes either)"
+        )
     if overrides and "description" not in overrides:
         table["description"] = described_with(str(raw.get("description", "")), overrides)
     return dataclasses.replace(validate_2d(name, table), source_file=str(path))
@@ -356,8 +364,52 @@ def load_any_scene(
     name_or_path: str | Path, overrides: Mapping[str, Any] | None = None
 ) -> Scene | Scene2D:
     """A 1D :class:`~conslaw.config.Scene` or a :class:`Scene2D`, by the scene's model."""
-    _, path = scene_path(name_or_path)
-    model = (overrides or {}).get("model", read_scene_file(path).get("model"))
-    if is_two_dimensional({"model": model}):
+    name, path = scene_path(name_or_path)
+    table = apply_overrides(read_scene_file(path), overrides or {}, {**DEFAULTS, **DEFAULTS_2D})
+    dimension = model_dimension(name, table)
+    shaped = two_dimensional_keys(table)
+    if dimension == 1 and shaped:
+        raise ConfigError(
+            f"scene '{name}': model '{table['model']}' is one-dimensional but the scene is "
+            f"two-dimensional ({', '.join(shaped)}); 2D models: {', '.join(_models_of(2))}"
+        )
+    if dimension == 2 and not shaped:
+        raise ConfigError(
+            f"scene '{name}': model '{table['model']}' is two-dimensional but the scene is "
+            f"one-dimensional (no y_min, y_max; n_cells a number); 1D models: "
+            f"{', '.join(_models_of(1))}"
+        )
+    if dimension == 2:
         return load_scene_2d(name_or_path, overrides)
     return load_scene(name_or_path, overrides)
+
+
+def model_dimension(name: str, table: Mapping[str, Any]) -> int:
+    """1 or 2: the space dimension of a raw scene's model (2 for a model with a y flux); a
+    ConfigError naming the key if the model is missing or unknown."""
+    model = table.get("model")
+    if model is None:
+        raise ConfigError(f"scene '{name}': scene key 'model' is required")
+    _name(model, "model", registry.models)
+    return 2 if is_two_dimensional(table) else 1
+
+
+def two_dimensional_keys(table: Mapping[str, Any]) -> list[str]:
+    """What in a raw scene belongs to a 2D scene only: ``y_min``, ``y_max``, ``n_cells`` as
+    ``[nx, ny]``, a ``bottom`` or ``top`` side (empty for a 1D scene)."""
+    keys = [key for key in ("y_min", "y_max") if key in table]
+    if isinstance(table.get("n_cells"), list):
+        keys.append("n_cells = [nx, ny]")
+    boundary = table.get("boundary")
+    if isinstance(boundary, Mapping):
+        keys += [f"boundary.{side}" for side in ("bottom", "top") if side in boundary]
+    return keys
+
+
+def _models_of(dimension: int) -> list[str]:
+    """The registered models of one space dimension, by name."""
+    return [
+        model
+        for model in sorted(registry.models)
+        if (registry.models.get(model).flux_y_point is not None) == (dimension == 2)
+    ]

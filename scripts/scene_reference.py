@@ -92,8 +92,12 @@ def _two_dimensional() -> list[str]:
             lines.append(f"| `{key}` | {shown} | {KEY_HELP_2D.get(key, KEY_HELP.get(key))} |")
     lines += [
         "",
-        "`front_tracking` is not a key of a 2D scene. Initial conditions of 2D scenes (and the",
-        "2D models' own, `conslaw list`):",
+        "The other keys (`description`, `model`, `parameters`, `reconstructor`, `t_end`,",
+        "`output_times`, `output_interval`, `exact`, `max_steps`) mean what they mean in a 1D",
+        "scene; `front_tracking` is not a key of a 2D scene. `--set initial.kind=...` keeps the",
+        "other keys of `[initial]`: to switch kinds, set the table whole, e.g. `--set",
+        "'initial={kind=\"circle\", centre=[0,0], radius=1, inside=[2,0,0], outside=[1,0,0]}'`.",
+        "Initial conditions of 2D scenes (and the 2D models' own, `conslaw list`):",
         "",
         "| kind | required keys | optional keys (default) | meaning |",
         "|---|---|---|---|",

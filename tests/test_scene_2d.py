@@ -23,7 +23,7 @@ from conslaw.initial import piecewise_constant_averages
 from conslaw.initial2d import area_below
 from conslaw.scene2d import load_any_scene, load_scene_2d
 from conslaw.simulation import simulate
-from conslaw.simulation2d import simulate_2d
+from conslaw.simulation2d import run_2d, simulate_2d
 
 SCENES_2D = [
     "sw2d-dam-break-x",
@@ -120,6 +120,7 @@ def test_every_builtin_2d_scene_validates_and_round_trips(name: str, tmp_path: P
         ({"initial.normal": [0.0, 0.0]}, "initial.normal"),
         ({"scheme_options.threads": 0}, "scheme_options.threads"),
         ({"scheme_options.chunk": 2}, "scheme_options"),
+        ({"scheme_options.chunks": 10**6}, "scheme_options.chunks must be in [1, 8]"),
         ({"cfl": 0.5}, "scene key 'cfl'"),
         ({"parameters.g": -1.0}, "parameters.g"),
     ],
@@ -134,6 +135,35 @@ def test_bad_2d_scenes_name_the_key(overrides: dict[str, object], message: str) 
 def test_a_1d_loader_refuses_a_2d_scene_in_one_line() -> None:
     with pytest.raises(ConfigError, match="two-dimensional"):
         load_scene("sw2d-dam-break-x")
+    with pytest.raises(ConfigError, match=r"'dam-break-wet' is one-dimensional.*conslaw\.run"):
+        load_scene_2d("dam-break-wet")
+
+
+@pytest.mark.parametrize(
+    ("name", "model", "message"),
+    [
+        ("sw2d-dam-break-x", "shallow-water", "model 'shallow-water' is one-dimensional but the"),
+        ("dam-break-wet", "shallow-water-2d", "model 'shallow-water-2d' is two-dimensional but"),
+        ("sw2d-dam-break-x", "shallow-waters", "unknown model 'shallow-waters'"),
+    ],
+)
+def test_a_model_of_the_other_dimension_is_named_as_such(
+    name: str, model: str, message: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``--set model=...`` of the other dimension says so, rather than naming a key the model's
+    scenes do not have."""
+    with pytest.raises(ConfigError, match=message):
+        load_any_scene(name, {"model": model})
+    assert main(["show", name, "--set", f"model={model}"]) == 2
+    error = capsys.readouterr().err
+    assert error.count("\n") == 1 and message in error
+
+
+def test_a_2d_result_prints_in_one_line() -> None:
+    result = run_2d("burgers2d-smooth", n_cells=[16, 16], output_times=[])
+    shown = repr(result)
+    assert shown.count("\n") == 0 and len(shown) < 200
+    assert "16 x 16 cells" in shown and f"L1 error {result.headline_error():.4g}" in shown
 
 
 # ------------------------------------------------------------------ runs

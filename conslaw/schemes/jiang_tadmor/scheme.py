@@ -144,13 +144,19 @@ class JiangTadmor:
         available = self.available_threads()
         self.threads = available if threads is None else int(threads)
         if not 1 <= self.threads <= available:
-            raise ConfigError(f"threads must be in [1, {available}], got {threads!r}")
-        self.chunks = CHUNKS_PER_THREAD * self.threads if chunks is None else int(chunks)
-        if self.chunks < 1:
-            raise ConfigError(f"chunks must be >= 1, got {chunks!r}")
+            raise ConfigError(
+                f"scheme_options.threads must be in [1, {available}] (the cores this process "
+                f"may use), got {threads!r}"
+            )
         self.shapes = {
             staggered: self.reference.family_shape(staggered) for staggered in (False, True)
         }
+        rows = min(shape[0] for shape in self.shapes.values())
+        self.chunks = min(CHUNKS_PER_THREAD * self.threads, rows) if chunks is None else int(chunks)
+        if not 1 <= self.chunks <= rows:
+            raise ConfigError(
+                f"scheme_options.chunks must be in [1, {rows}] (the rows of a step), got {chunks!r}"
+            )
         self.compiled = compiles(model)
         # The families of a step pair (primary, staggered, primary) and their statistics: per
         # row, padded and reused by the kernel; the reference's values and one row over a bed.
