@@ -10,6 +10,10 @@ QUARTER_MARGIN = 1e-12
 #: so a quarter's momentum within this of the range's bound is inside.
 TINY = 2.2250738585072014e-308
 
+#: A cell over a bed is still (its bed read as still water over flat quarters, its depth's
+#: quarters free to be empty) while every velocity is below this fraction of its wave speed.
+STILL = 1e-9
+
 #: Columns of a family's per-row statistics (``kernel_template.row_statistics``, read by the time
 #: loop of :class:`~conslaw.schemes.jiang_tadmor.scheme.JiangTadmor`): the largest wave speed in
 #: x, in y, the smallest and the largest depth; :data:`STATISTICS` columns in all.

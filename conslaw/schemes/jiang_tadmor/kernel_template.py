@@ -376,20 +376,27 @@ def predict_row(w, k, first, count, step, params, slots):
             for c2 in range(NV):
                 total += jacobian[r, c2] * slope_y[c2]
             predicted[r] = q[r] + half_dt * -(predicted[r] + total * inverse_dy)
-        _flux_point(predicted, aux, local, out)
-        for v in range(NV):
-            slots[FLUX_X + v, jj] = out[v]
-        _flux_y_point(predicted, aux, local, out)
-        for v in range(NV):
-            slots[FLUX_Y + v, jj] = out[v]
+        store_fluxes(predicted, aux, local, out, slots, jj)
+
+
+@njit(cache=True, inline="always")
+def store_fluxes(predicted, aux, local, out, slots, jj):
+    """The x and y fluxes of the ``predicted`` values into column ``jj`` of the flux rows of
+    ``slots`` (``out`` a scratch vector)."""
+    _flux_point(predicted, aux, local, out)
+    for v in range(NV):
+        slots[FLUX_X + v, jj] = out[v]
+    _flux_y_point(predicted, aux, local, out)
+    for v in range(NV):
+        slots[FLUX_Y + v, jj] = out[v]
 
 
 @njit(cache=True, error_model="numpy")
 def average_row(w, out, k, step, params, low, high):
     """New row ``k``: the staggered averages of the corner cells' reconstructions and the
     midpoint-rule fluxes through the half edges (the formula of
-    :mod:`~conslaw.schemes.jiang_tadmor.reference`), a variable at a time over the row, then
-    the model's correction."""
+    :mod:`~conslaw.schemes.jiang_tadmor.reference`), a variable at a time over the row (the
+    model's correction follows, :func:`correct_row`)."""
     lambda_x = 0.5 * (step.dt / step.dx)
     lambda_y = 0.5 * (step.dt / step.dy)
     first = col(step.first)
@@ -423,8 +430,6 @@ def average_row(w, out, k, step, params, low, high):
                 - lambda_x * ((fb - fa) + (fd - fc))
                 - lambda_y * ((gc - ga) + (gd - gb))
             )
-    if HAS_CORRECTION:
-        correct_row(out, k, step, params)
 
 
 @njit(cache=True, error_model="numpy")
@@ -437,12 +442,18 @@ def correct_row(out, k, step, params):
     for a in range(NAUX):
         aux[a] = 0.0
     for j in range(step.columns):
-        c = col(NG + j)
-        for v in range(NV):
-            q[v] = out[v, NG + k, c]
-        _correct_point(q, aux, local, step.dt)
-        for v in range(NV):
-            out[v, NG + k, c] = q[v]
+        correct_cell(out, NG + k, col(NG + j), q, aux, local, step.dt)
+
+
+@njit(cache=True, inline="always")
+def correct_cell(out, row, c, q, aux, local, dt):
+    """The model's correction of padded cell ``(row, c)`` of ``out`` with coefficients ``aux``
+    (``q`` a scratch vector)."""
+    for v in range(NV):
+        q[v] = out[v, row, c]
+    _correct_point(q, aux, local, dt)
+    for v in range(NV):
+        out[v, row, c] = q[v]
 
 
 @njit(cache=True, error_model="numpy")
@@ -469,35 +480,48 @@ def velocity_window(w, m, row, c, along_y, params):
 
 
 @njit(cache=True, error_model="numpy")
+def thin_tail(w, out, k, j, step):
+    """The depth of new cell ``(k, j)`` if it is a thin tail, a wet cell shallower than
+    ``THIN_TAIL`` times the deepest of the 4 x 4 cells its update reads, else 0."""
+    depth = out[DEPTH, NG + k, NG + j]
+    # Deeper than THIN_TAIL times the deepest cell anywhere: not a thin tail (the 4 x 4 window
+    # below is read only where it may be).
+    if not (depth >= DRY_DEPTH and depth > 0.0 and depth < THIN_TAIL * step.deepest):
+        return 0.0
+    row, c = step.first + k - 1, step.first + j - 1
+    deepest = -np.inf
+    for r in range(row, row + 4):
+        for i in range(c, c + 4):
+            deepest = max(deepest, w[DEPTH, r, i])
+    return depth if depth < THIN_TAIL * deepest else 0.0
+
+
+@njit(cache=True, inline="always")
+def clamp_velocity(out, m, k, j, depth, lowest, highest):
+    """Momentum ``m`` of new cell ``(k, j)`` (of ``depth``) with its velocity clamped to
+    ``[lowest, highest]``."""
+    u = out[m, NG + k, NG + j] / depth
+    if u < lowest:
+        out[m, NG + k, NG + j] = lowest * depth
+    elif u > highest:
+        out[m, NG + k, NG + j] = highest * depth
+
+
+@njit(cache=True, error_model="numpy")
 def bound_tails(w, out, k, step, params):
     """The velocity bound of thin tails in new row ``k``
-    (:meth:`JiangTadmorReference._bound_velocities` without a source): a new wet cell shallower
-    than ``THIN_TAIL`` times the deepest of the 4 x 4 cells its update reads keeps each velocity
-    between their smallest ``u - 2c`` and largest ``u + 2c``."""
-    row = step.first + k - 1
-    bound = THIN_TAIL * step.deepest
+    (:meth:`JiangTadmorReference._bound_velocities` without a source): a thin tail
+    (:func:`thin_tail`) keeps each velocity between the smallest ``u - 2c`` and the largest
+    ``u + 2c`` of the 4 x 4 cells its update reads."""
     for j in range(step.columns):
-        depth = out[DEPTH, NG + k, NG + j]
-        # Deeper than THIN_TAIL times the deepest cell anywhere: not a thin tail (the 4 x 4
-        # window below is read only where it may be).
-        if not (depth >= DRY_DEPTH and depth > 0.0 and depth < bound):
-            continue
-        c = step.first + j - 1
-        deepest = -np.inf
-        for r in range(row, row + 4):
-            for i in range(c, c + 4):
-                deepest = max(deepest, w[DEPTH, r, i])
-        if not depth < THIN_TAIL * deepest:
+        depth = thin_tail(w, out, k, j, step)
+        if depth == 0.0:
             continue
         for m in (MOMENTUM, MOMENTUM_Y):
-            if m < 0:
-                continue
-            lowest, highest = velocity_window(w, m, row, c, m == MOMENTUM_Y, params)
-            u = out[m, NG + k, NG + j] / depth
-            if u < lowest:
-                out[m, NG + k, NG + j] = lowest * depth
-            elif u > highest:
-                out[m, NG + k, NG + j] = highest * depth
+            if m >= 0:
+                row, c = step.first + k - 1, step.first + j - 1
+                lowest, highest = velocity_window(w, m, row, c, m == MOMENTUM_Y, params)
+                clamp_velocity(out, m, k, j, depth, lowest, highest)
 
 
 @njit(cache=True, error_model="numpy")
@@ -533,17 +557,23 @@ def row_statistics(out, k, columns, params, statistics):
     statistics[k, DEEPEST] = deepest
 
 
+@njit(cache=True, inline="always")
+def chunk_rows(rows, chunks, chunk):
+    """The first and one past the last of the ``rows`` new rows of chunk ``chunk`` of
+    ``chunks`` (the last chunks may be shorter, or empty)."""
+    per_chunk = (rows + chunks - 1) // chunks
+    start = chunk * per_chunk
+    return start, min(rows, start + per_chunk)
+
+
 @njit(cache=True, parallel=True, error_model="numpy")
 def step_family(w, out, work, statistics, params, step):
     """One Jiang–Tadmor step from the padded family ``w`` into the real cells of ``out`` (its
     ghosts are left to :func:`fill_ghosts`), with each new row's statistics
     (:func:`row_statistics`) in ``statistics``; the rows in ``work.shape[0]`` chunks across the
     threads."""
-    chunks = work.shape[0]
-    per_chunk = (step.rows + chunks - 1) // chunks
-    for chunk in prange(chunks):
-        start = chunk * per_chunk
-        stop = min(step.rows, start + per_chunk)
+    for chunk in prange(work.shape[0]):
+        start, stop = chunk_rows(step.rows, work.shape[0], chunk)
         slots = work[chunk]
         if start < stop:
             predict_row(w, step.first + start, step.first, step.columns + 1, step, params, slots[0])
@@ -551,6 +581,8 @@ def step_family(w, out, work, statistics, params, step):
             low, high = slots[(k - start) % 2], slots[(k - start + 1) % 2]
             predict_row(w, step.first + k + 1, step.first, step.columns + 1, step, params, high)
             average_row(w, out, k, step, params, low, high)
+            if HAS_CORRECTION:
+                correct_row(out, k, step, params)
             if DEPTH >= 0 and MOMENTUM >= 0:
                 bound_tails(w, out, k, step, params)
             row_statistics(out, k, step.columns, params, statistics)

@@ -13,6 +13,8 @@ from conslaw.model import Model
 from conslaw.reconstruct import Reconstructor
 
 TEMPLATE = Path(__file__).with_name("kernel_template.py")
+BED_TEMPLATE = Path(__file__).with_name("bed_kernel_template.py")
+FLAT_TEMPLATE_MODULE = "conslaw.schemes.jiang_tadmor.kernel_template"
 
 
 def jt_kernels(model: Model, reconstructor: Reconstructor) -> ModuleType:
@@ -59,3 +61,43 @@ def jt_kernels(model: Model, reconstructor: Reconstructor) -> ModuleType:
         "CUSTOM_SLOPES": custom,
     }
     return generate(TEMPLATE, bindings, constants)  # type: ignore[arg-type]
+
+
+def jt_bed_kernels(model: Model, reconstructor: Reconstructor) -> ModuleType:
+    """The Jiang–Tadmor kernels of a 2D depth-averaged model over a bed: ``bed_kernel_template.py``
+    with its import of the flat template redirected to :func:`jt_kernels` of the same model and
+    reconstructor, whose per-row functions it calls, and the model's source, well-balanced
+    sources and coefficient rows bound.
+
+    Parameters
+    ----------
+    model : Model
+        A 2D model with a bed (:func:`~conslaw.schemes.jiang_tadmor.scheme.compiles`).
+    reconstructor : Reconstructor
+        As for :func:`jt_kernels`.
+
+    Returns
+    -------
+    ModuleType
+        The generated module of ``bed_kernel_template.py``.
+    """
+    model_class = type(model)
+    assert model.surface_aux is not None and model.surface_aux_y is not None
+    bindings = {
+        "_source_point": model_class.source_point,
+        "_balanced_source_point": model_class.balanced_source_point,
+        "_balanced_source_y_point": model_class.balanced_source_y_point,
+    }
+    constants = {
+        "SURFACE_BED": int(model.surface_aux[0]),
+        "SURFACE_X": int(model.surface_aux[1]),
+        "SURFACE_Y": int(model.surface_aux_y[0]),
+        "SURFACE_TWIST": int(model.surface_aux_y[1]),
+    }
+    flat = jt_kernels(model, reconstructor)
+    return generate(
+        BED_TEMPLATE,
+        bindings,  # type: ignore[arg-type]
+        constants,
+        imports={FLAT_TEMPLATE_MODULE: flat},
+    )

@@ -74,7 +74,7 @@ from conslaw.schemes.jiang_tadmor.bed import (
     rows_of_quarters,
     still_water_depth,
 )
-from conslaw.schemes.jiang_tadmor.constants import QUARTER_MARGIN, TINY
+from conslaw.schemes.jiang_tadmor.constants import QUARTER_MARGIN, STILL, TINY
 from conslaw.schemes.nessyahu_tadmor.constants import DEPTH_SLOPE_LIMIT, ROUND_OFF, THIN_TAIL
 
 Array = NDArray[np.float64]
@@ -85,9 +85,6 @@ GHOSTS = STENCIL_HALF_WIDTH + 1
 CFL_LIMIT = 0.5
 SIDES = ("left", "right", "bottom", "top")
 KINDS = ("periodic", "outflow", "wall", "inflow")
-#: A cell is still (its bed read as still water over flat quarters, its depth's quarters free to
-#: be empty) while every velocity is below this fraction of its wave speed.
-STILL = 1e-9
 #: Smallest time step, in units of ``dx``, before a run whose depths stay negative stops.
 DT_FLOOR = 1e-14
 
@@ -281,6 +278,11 @@ class JiangTadmorReference:
         quarters = quarters_of_rows(self.family_aux(False)[rows], self.grid.dx, self.grid.dy)
         q[model.depth_index] = still_water_depth(quarters, surface)
         return q
+
+    def family_aux_padded(self, staggered: bool) -> Array:
+        """The coefficients of one family padded as its states, ``(n_aux, rows + 2 GHOSTS,
+        columns + 2 GHOSTS)`` (each ghost cell's by the rule of its side)."""
+        return self._aux[staggered]
 
     def family_aux(self, staggered: bool) -> Array:
         """The coefficients of the cells of one family (not padded)."""

@@ -2,10 +2,11 @@
 
 Models without a bed (no source, no well-balanced source, no surface reconstruction: Burgers 2D,
 shallow water over a flat bed) take the compiled kernel of
-:mod:`~conslaw.schemes.jiang_tadmor.kernel_template`, multi-threaded across rows; over a bed the
-steps are those of :class:`~conslaw.schemes.jiang_tadmor.reference.JiangTadmorReference` (its
-still-water rules are not compiled yet; docs/design.md, "Toward two dimensions"). The time loop
-is one for both, that of :meth:`JiangTadmorReference.advance` (step pairs of one ``dt``, a pair
+:mod:`~conslaw.schemes.jiang_tadmor.kernel_template`, multi-threaded across rows; shallow water
+over a bed that of :mod:`~conslaw.schemes.jiang_tadmor.bed_kernel_template`, which continues it;
+any other model the steps of :class:`~conslaw.schemes.jiang_tadmor.reference.JiangTadmorReference`
+(docs/design.md, "Toward two dimensions"). The time loop is one for all, that of
+:meth:`JiangTadmorReference.advance` (step pairs of one ``dt``, a pair
 redone with half the step while a depth would become negative and with the staggered values'
 stable step if their Courant number would reach 1/2), with a progress report after every pair
 and a check of every new family for values and wave speeds that are not finite.
@@ -32,7 +33,7 @@ from conslaw.schemes.jiang_tadmor.constants import (
     SPEED_Y,
     STATISTICS,
 )
-from conslaw.schemes.jiang_tadmor.kernels import jt_kernels
+from conslaw.schemes.jiang_tadmor.kernels import jt_bed_kernels, jt_kernels
 from conslaw.schemes.jiang_tadmor.reference import (
     CFL_LIMIT,
     DT_FLOOR,
@@ -46,10 +47,12 @@ Array = NDArray[np.float64]
 
 #: Chunks of rows per thread (each chunk computes one source row twice).
 CHUNKS_PER_THREAD = 2
+#: The terms of a bed (``Model.capabilities``): a compiled model has all of them or none.
+BED_TERMS = ("source", "balanced_source", "surface")
 
 
 def compiles(model: Model) -> bool:
-    """Whether the compiled kernel covers ``model``.
+    """Whether the compiled kernels cover ``model``.
 
     Parameters
     ----------
@@ -59,21 +62,38 @@ def compiles(model: Model) -> bool:
     Returns
     -------
     bool
-        True if it has no bed (no source, no well-balanced source, no surface reconstruction),
-        no resistance and no coefficients of its own.
+        True if it has no resistance and no coefficients of its own, and either no bed (no
+        source, no well-balanced source, no surface reconstruction) or all three of a bed over
+        which the depth is reconstructed from the surface (:func:`over_bed`).
     """
     uses = model.capabilities()
-    return not any(
+    if any(
         uses[key]
         for key in (
-            "source",
-            "balanced_source",
-            "surface",
             "resistance",
             "dynamic_coefficients",
             "interface_coefficients",
             "rest_coefficients",
         )
+    ):
+        return False
+    return over_bed(model) or not any(uses[key] for key in BED_TERMS)
+
+
+def over_bed(model: Model) -> bool:
+    """Whether ``model`` runs the compiled kernels over a bed
+    (:func:`~conslaw.schemes.jiang_tadmor.kernels.jt_bed_kernels`): it has a depth, both
+    momenta, a source, a well-balanced source and a surface reconstruction with the bed's rows
+    in both directions (``surface_aux``, ``surface_aux_y``); ``model`` is any 2D model, and the
+    answer a bool."""
+    uses = model.capabilities()
+    return (
+        all(uses[key] for key in BED_TERMS)
+        and model.depth_index is not None
+        and model.momentum_index is not None
+        and model.momentum_y_index is not None
+        and model.surface_aux is not None
+        and model.surface_aux_y is not None
     )
 
 
@@ -107,9 +127,11 @@ class JiangTadmor:
 
     Notes
     -----
-    Models without a bed (:func:`compiles`) take the compiled kernel; over a bed the steps are
+    Models without a bed take the compiled kernel, and so do depth-averaged models over a bed
+    (:func:`compiles`, :func:`over_bed`: a pass that finds the still cells, the bed they are
+    read with and the surface, then the rows); any other model's steps are
     :meth:`JiangTadmorReference.step`, run by numpy, and ``threads`` and ``chunks`` are checked
-    but not used. Everything else is the same in both: the values (the kernel's arithmetic is
+    but not used. Everything else is the same in both: the values (the kernels' arithmetic is
     the reference's, operation for operation), the time loop of :meth:`advance` with its
     progress reports and its check for values that are not finite, and :meth:`step` refusing a
     ``dt`` whose Courant number reaches 1/2.
@@ -177,6 +199,8 @@ class JiangTadmor:
         padded = {
             s: (nv, rows + 2 * GHOSTS, cols + 2 * GHOSTS) for s, (rows, cols) in shapes.items()
         }
+        if over_bed(model):
+            self._prepare_bed(reconstructor, padded, columns)
         self.states = [np.zeros(padded[False]), np.zeros(padded[True]), np.zeros(padded[False])]
         self.statistics = [np.zeros((shapes[s][0], STATISTICS)) for s in (False, True, False)]
         kinds = np.array([KINDS.index(boundaries[side]) for side in SIDES], dtype=np.int64)
@@ -194,6 +218,28 @@ class JiangTadmor:
             self.kernels.INFLOW,
         ]:  # the kernel's codes of the kinds are the reference's order
             raise AssertionError("side kinds out of order")
+
+    def _prepare_bed(
+        self, reconstructor: Reconstructor, padded: dict[bool, tuple[int, int, int]], columns: int
+    ) -> None:
+        """The kernels over a bed, their work array, and a coefficient bundle per direction of
+        a step (``self.beds[staggered]``: the source family's static coefficients, the new
+        family's, and the arrays the kernel fills per step)."""
+        self.bed_kernels = jt_bed_kernels(self.model, reconstructor)
+        self.work = np.zeros(self.bed_kernels.bed_work_shape(self.chunks, columns))
+        coefficients = {
+            s: np.ascontiguousarray(self.reference.family_aux_padded(s)) for s in padded
+        }
+        self.beds = {
+            s: self.bed_kernels.Bed(
+                coefficients[s],
+                coefficients[not s],
+                np.zeros_like(coefficients[s]),
+                np.zeros(padded[s][1:]),
+                np.zeros(padded[s][1:]),
+            )
+            for s in padded
+        }
 
     def initial_values(self, initial: Any) -> Array | None:
         """The scheme's own initial values of a scene's initial condition, or None for the
@@ -217,12 +263,18 @@ class JiangTadmor:
 
     def kernel_identity(self) -> str | None:
         """The name of the generated kernel module this scheme runs (runs that share it share
-        one compile), or None over a bed (numpy steps)."""
-        return self.kernels.__name__ if self.compiled else None
+        one compile), or None for a model the kernels do not cover (numpy steps)."""
+        if not self.compiled:
+            return None
+        return self.bed_kernels.__name__ if over_bed(self.model) else self.kernels.__name__
 
     def needs_compile(self) -> bool:
         """Whether the first step compiles the kernel (it is not in numba's cache)."""
-        return self.compiled and not compiled_before(self.kernels, "step_family")
+        if not self.compiled:
+            return False
+        if over_bed(self.model):
+            return not compiled_before(self.bed_kernels, "step_family_bed")
+        return not compiled_before(self.kernels, "step_family")
 
     def compile(self) -> None:
         """Compile (or load from the cache) the kernel's functions, with the kernel module's
@@ -230,7 +282,7 @@ class JiangTadmor:
         need the same kernel, one compiles it): one step of length 0 on still values."""
         if not self.compiled:
             return
-        with compile_lock(self.kernels):
+        with compile_lock(self.bed_kernels if over_bed(self.model) else self.kernels):
             q = np.zeros((self.model.n_vars, *self.shapes[False]))
             if self.model.depth_index is not None:
                 q[self.model.depth_index] = 1.0
@@ -365,9 +417,17 @@ class JiangTadmor:
         step = kernels.Step(first, rows, columns, dt, self.grid.dx, self.grid.dy, deepest)
         statistics = self.statistics[target]
         numba.set_num_threads(self.threads)
-        kernels.step_family(
-            self.states[source], self.states[target], self.work, statistics, self.params, step
-        )
+        if over_bed(self.model):
+            bed = self.beds[staggered]
+            w = self.states[source]
+            self.bed_kernels.prepare_bed(w, bed, self.grid.dx, self.grid.dy, self.params)
+            self.bed_kernels.step_family_bed(
+                w, self.states[target], self.work, statistics, self.params, step, bed
+            )
+        else:
+            kernels.step_family(
+                self.states[source], self.states[target], self.work, statistics, self.params, step
+            )
         kernels.fill_ghosts(self.states[target], rows, columns, not staggered, self.sides)
         return statistics
 
