@@ -365,8 +365,14 @@ def load_any_scene(
 ) -> Scene | Scene2D:
     """A 1D :class:`~conslaw.config.Scene` or a :class:`Scene2D`, by the scene's model."""
     name, path = scene_path(name_or_path)
-    table = apply_overrides(read_scene_file(path), overrides or {}, {**DEFAULTS, **DEFAULTS_2D})
-    dimension = model_dimension(name, table)
+    raw = read_scene_file(path)
+    dimension = model_dimension(
+        name, apply_overrides(raw, overrides or {}, {**DEFAULTS, **DEFAULTS_2D})
+    )
+    # every key of either dimension is accepted here; a table filled by a dotted override
+    # (boundary.left = ...) starts from the defaults of the model's own dimension
+    own, other = (DEFAULTS, DEFAULTS_2D) if dimension == 1 else (DEFAULTS_2D, DEFAULTS)
+    table = apply_overrides(raw, overrides or {}, {**other, **own})
     shaped = two_dimensional_keys(table)
     if dimension == 1 and shaped:
         raise ConfigError(

@@ -479,7 +479,7 @@ def velocity_window(w, m, row, c, along_y, params):
     return lowest, highest
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def thin_tail(w, out, k, j, step):
     """The depth of new cell ``(k, j)`` if it is a thin tail, a wet cell shallower than
     ``THIN_TAIL`` times the deepest of the 4 x 4 cells its update reads, else 0."""
