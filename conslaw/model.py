@@ -29,6 +29,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from conslaw import pointwise
+from conslaw.coefficient_loops import coefficients_2d_cells, corner_coefficients_cells
 from conslaw.errors import ConfigError, unknown_name_message
 from conslaw.kernelgen import generate
 
@@ -175,6 +176,17 @@ class Model(ABC):
     surface_aux_y: ClassVar[tuple[int, int] | None] = None
     #: Sign of every coefficient row in the mirror image across a y wall; None: all +1.
     aux_reflect_signs_y: ClassVar[tuple[float, ...] | None] = None
+    #: Optional ``coefficients_2d_point(q, slope_x, slope_y, aux, params)``: a 2D model's
+    #: ``coefficients_point``, from the slopes in x and in y (the earth-pressure coefficients of
+    #: :mod:`conslaw_models.savage_hutter_2d`).
+    coefficients_2d_point: ClassVar[Callable[..., None] | None] = None
+    #: Optional ``corner_coefficients_point(a, b, c, d, aux, params)``: a 2D model's
+    #: ``interface_coefficients_point``: sets the rows :attr:`varying_aux_rows` of ``aux`` (in
+    #: place), with which every flux of a staggered cell is evaluated, from the mid-step states
+    #: of its corner cells (lower left, lower right, upper left, upper right).
+    corner_coefficients_point: ClassVar[Callable[..., None] | None] = None
+    #: The rows of ``aux`` that ``coefficients_2d_point`` and ``corner_coefficients_point`` set.
+    varying_aux_rows: ClassVar[tuple[int, ...]] = ()
     #: Initial-condition kinds this model adds: kind -> (required keys, defaults, description);
     #: built by :meth:`initial_cell_averages`.
     initial_kinds: ClassVar[dict[str, tuple[tuple[str, ...], dict[str, Any], str]]] = {}
@@ -276,8 +288,10 @@ class Model(ABC):
             "surface": self.surface_aux is not None,
             "correction": self.correct_point is not None,
             "resistance": self.resistance_point is not None,
-            "dynamic_coefficients": self.coefficients_point is not None,
-            "interface_coefficients": self.interface_coefficients_point is not None,
+            "dynamic_coefficients": self.coefficients_point is not None
+            or self.coefficients_2d_point is not None,
+            "interface_coefficients": self.interface_coefficients_point is not None
+            or self.corner_coefficients_point is not None,
             "rest_coefficients": self.rest_coefficients_point is not None,
         }
 
@@ -499,6 +513,33 @@ class Model(ABC):
                 left, right, out_left, out_right, self.param_vector()
             )
         return out_left, out_right
+
+    def coefficients_2d(self, q: Array, slopes_x: Array, slopes_y: Array, aux: Array) -> Array:
+        """Copy of ``aux`` with ``coefficients_2d_point`` applied column by column (``aux``
+        itself, copied, if the model does not use it)."""
+        q, out = self._prepare(q, aux)
+        out = out.copy()
+        point = type(self).coefficients_2d_point
+        if point is not None and self.capabilities()["dynamic_coefficients"]:
+            coefficients_2d_cells(
+                point,
+                q,
+                np.ascontiguousarray(slopes_x, dtype=np.float64),
+                np.ascontiguousarray(slopes_y, dtype=np.float64),
+                out,
+                self.param_vector(),
+            )
+        return out
+
+    def corner_coefficients(self, a: Array, b: Array, c: Array, d: Array, aux: Array) -> Array:
+        """Copy of ``aux`` with ``corner_coefficients_point`` applied to every column of the
+        corner states ``a``, ``b``, ``c``, ``d`` (each ``(n_vars, n)``)."""
+        a, b, c, d = (self._prepare(q, None)[0] for q in (a, b, c, d))
+        out = np.array(aux, dtype=np.float64, order="C", copy=True)
+        point = type(self).corner_coefficients_point
+        if point is not None and self.capabilities()["interface_coefficients"]:
+            corner_coefficients_cells(point, a, b, c, d, out, self.param_vector())
+        return out
 
     def rest_coefficients(self, aux: Array) -> tuple[Array, Array]:
         """The low and high ends of the range of coefficients of material whose coefficients

@@ -28,6 +28,37 @@ def velocity(h, m, dry_tolerance):
 
 
 @njit(cache=True)
+def momentum_jacobian_x(u, v, celerity_squared, out):
+    """The x-flux Jacobian of a 2D depth-averaged model, ``q = (h, h u, h v)`` with the
+    pressure ``celerity_squared h / 2`` (``g h`` in shallow water, ``beta_x h`` in
+    Savage–Hutter): ``A = [[0, 1, 0], [c^2 - u^2, 2 u, 0], [-u v, v, u]]``."""
+    out[0, 0] = 0.0
+    out[0, 1] = 1.0
+    out[0, 2] = 0.0
+    out[1, 0] = celerity_squared - u * u
+    out[1, 1] = 2.0 * u
+    out[1, 2] = 0.0
+    out[2, 0] = -u * v
+    out[2, 1] = v
+    out[2, 2] = u
+
+
+@njit(cache=True)
+def momentum_jacobian_y(u, v, celerity_squared, out):
+    """The y-flux Jacobian of :func:`momentum_jacobian_x`'s models: ``B = [[0, 0, 1], [-u v,
+    v, u], [c^2 - v^2, 0, 2 v]]``."""
+    out[0, 0] = 0.0
+    out[0, 1] = 0.0
+    out[0, 2] = 1.0
+    out[1, 0] = -u * v
+    out[1, 1] = v
+    out[1, 2] = u
+    out[2, 0] = celerity_squared - v * v
+    out[2, 1] = 0.0
+    out[2, 2] = 2.0 * v
+
+
+@njit(cache=True)
 def correct_point(q, aux, params, dt):
     """A dry cell holds no momentum (every row after the depth)."""
     if q[0] < params[DRY]:
@@ -76,7 +107,24 @@ class DepthAveragedModel(Model):
         return float(self.params.dry_tolerance)
 
     def primitive_fields(self, q: NDArray[np.float64]) -> dict[str, NDArray[np.float64]]:
-        """Depth ``h`` and velocity ``u = hu / h`` (0 in a dry cell, as in every formula)."""
-        h, m = np.asarray(q[0]), np.asarray(q[1])
+        """Depth ``h`` and velocity ``u = hu / h`` (0 in a dry cell, as in every formula); in
+        2D also ``v = hv / h``."""
+        h = np.asarray(q[0])
         wet = (h >= self.dry_depth()) & (h > 0.0)
-        return {"h": h, "u": np.where(wet, m / np.where(wet, h, 1.0), 0.0)}
+        safe = np.where(wet, h, 1.0)
+        fields = {"h": h, "u": np.where(wet, np.asarray(q[1]) / safe, 0.0)}
+        if self.momentum_y_index is not None:
+            fields["v"] = np.where(wet, np.asarray(q[self.momentum_y_index]) / safe, 0.0)
+        return fields
+
+
+class TwoDimensionalRows:
+    """The rows of a 2D depth-averaged model, ``q = (h, h u, h v)`` (a mixin, listed before the
+    model's :class:`DepthAveragedModel` base): the mirror signs across x and y walls, the y
+    momentum's row, and what is admissible."""
+
+    variables: ClassVar[tuple[str, ...]] = ("h", "hu", "hv")
+    reflect_signs: ClassVar[tuple[float, ...]] = (1.0, -1.0, 1.0)
+    reflect_signs_y: ClassVar[tuple[float, ...] | None] = (1.0, 1.0, -1.0)
+    momentum_y_index: ClassVar[int | None] = 2
+    admissible_rule: ClassVar[str] = "finite h >= 0, and hu = hv = 0 where h < dry_tolerance"

@@ -269,6 +269,31 @@ class SavageHutterParameters:
             )
 
 
+def chute_and_pressures(p: SavageHutterParameters) -> tuple[Chute, float, float]:
+    """The chute of the parameters ``p`` and ``(K_act, K_pass)`` (eq. 6; both 1 for
+    ``earth_pressure = "isotropic"``), shared by the 1D and the 2D model."""
+    chute = make_chute(
+        p.chute, p.zeta, p.transition_start, p.transition_end, p.zeta_end, p.chute_file
+    )
+    if p.earth_pressure == "isotropic":
+        return chute, 1.0, 1.0
+    k_active, k_passive = earth_pressure_coefficients(math.radians(p.phi), math.radians(p.delta))
+    return chute, k_active, k_passive
+
+
+def check_chute_covers(chute: Chute, p: SavageHutterParameters, x_min: float, x_max: float) -> None:
+    """A chute table must cover the domain ``[x_min, x_max]``, unless ``chute_extend`` says to
+    continue it as planes at the angles of its ends (a domain in other coordinates than the
+    table's would otherwise run down an endless plane unnoticed); a ConfigError otherwise."""
+    problem = chute.uncovered(x_min, x_max)
+    if problem is not None and not p.chute_extend:
+        raise ConfigError(
+            f"parameters.chute_file: {problem}; move x_min/x_max inside the table, extend "
+            "the table, or set parameters.chute_extend = true to continue the chute as "
+            "planes at the angles of its ends"
+        )
+
+
 class SavageHutter(DepthAveragedModel):
     """Savage–Hutter granular avalanche, ``q = (h, m = h u)``, on a curved chute.
 
@@ -312,28 +337,11 @@ class SavageHutter(DepthAveragedModel):
 
     def __init__(self, **params: Any) -> None:
         super().__init__(**params)
-        p = self.params
-        self.chute: Chute = make_chute(
-            p.chute, p.zeta, p.transition_start, p.transition_end, p.zeta_end, p.chute_file
-        )
-        if p.earth_pressure == "isotropic":
-            self.k_active = self.k_passive = 1.0
-        else:
-            self.k_active, self.k_passive = earth_pressure_coefficients(
-                math.radians(p.phi), math.radians(p.delta)
-            )
+        self.chute, self.k_active, self.k_passive = chute_and_pressures(self.params)
 
     def check_domain(self, x_min: float, x_max: float) -> None:
-        """A chute table must cover the domain, unless ``chute_extend`` says to continue it as
-        planes at the angles of its ends (a domain in other coordinates than the table's would
-        otherwise run down an endless plane unnoticed)."""
-        problem = self.chute.uncovered(x_min, x_max)
-        if problem is not None and not self.params.chute_extend:
-            raise ConfigError(
-                f"parameters.chute_file: {problem}; move x_min/x_max inside the table, extend "
-                "the table, or set parameters.chute_extend = true to continue the chute as "
-                "planes at the angles of its ends"
-            )
+        """A chute table must cover the domain (:func:`check_chute_covers`)."""
+        check_chute_covers(self.chute, self.params, x_min, x_max)
 
     def param_vector(self) -> Array:
         """``(eps, dry_tolerance, K_act, K_pass, tan delta)`` (indices EPSILON, DRY, ...)."""

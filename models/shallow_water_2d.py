@@ -29,7 +29,13 @@ from conslaw.exact import ExactSolution, Unavailable
 from conslaw.exact2d import ExactSolution2D, dam_break_along_normal, gauss_average
 from conslaw.grid2d import Grid2D
 from conslaw.model import InitialData, parameter
-from conslaw_models.depth_averaged import DRY, velocity
+from conslaw_models.depth_averaged import (
+    DRY,
+    TwoDimensionalRows,
+    momentum_jacobian_x,
+    momentum_jacobian_y,
+    velocity,
+)
 from conslaw_models.shallow_water import (
     WaterOverBed,
     balanced_step,
@@ -80,15 +86,7 @@ def jacobian_point(q, aux, params, out):
     """``A = [[0, 1, 0], [g h - u^2, 2 u, 0], [-u v, v, u]]``."""
     u = velocity(q[0], q[1], params[DRY])
     v = velocity(q[0], q[2], params[DRY])
-    out[0, 0] = 0.0
-    out[0, 1] = 1.0
-    out[0, 2] = 0.0
-    out[1, 0] = params[G] * q[0] - u * u
-    out[1, 1] = 2.0 * u
-    out[1, 2] = 0.0
-    out[2, 0] = -u * v
-    out[2, 1] = v
-    out[2, 2] = u
+    momentum_jacobian_x(u, v, params[G] * q[0], out)
 
 
 @njit(cache=True)
@@ -96,15 +94,7 @@ def jacobian_y_point(q, aux, params, out):
     """``B = [[0, 0, 1], [-u v, v, u], [g h - v^2, 0, 2 v]]``."""
     u = velocity(q[0], q[1], params[DRY])
     v = velocity(q[0], q[2], params[DRY])
-    out[0, 0] = 0.0
-    out[0, 1] = 0.0
-    out[0, 2] = 1.0
-    out[1, 0] = -u * v
-    out[1, 1] = v
-    out[1, 2] = u
-    out[2, 0] = params[G] * q[0] - v * v
-    out[2, 1] = 0.0
-    out[2, 2] = 2.0 * v
+    momentum_jacobian_y(u, v, params[G] * q[0], out)
 
 
 @njit(cache=True)
@@ -185,13 +175,12 @@ class ShallowWater2DParameters:
             raise ConfigError(f"parameters.bowl_radius: must be > 0, got {self.bowl_radius}")
 
 
-class ShallowWater2D(WaterOverBed):
+class ShallowWater2D(TwoDimensionalRows, WaterOverBed):
     """Shallow-water equations in 2D, ``q = (h, hu, hv)``, with gravity ``g`` and a bed
     ``b(x, y)`` (flat unless ``bump_height`` or ``bowl_depth`` is set)."""
 
     name = "shallow-water-2d"
     description = "shallow-water equations in 2D (h, hu, hv), bed b(x, y), dry states"
-    variables: ClassVar[tuple[str, ...]] = ("h", "hu", "hv")
     long_names: ClassVar[dict[str, str]] = {
         "x": "position x",
         "y": "position y",
@@ -202,16 +191,12 @@ class ShallowWater2D(WaterOverBed):
         "u": "depth-averaged x velocity",
         "v": "depth-averaged y velocity",
     }
-    reflect_signs: ClassVar[tuple[float, ...]] = (1.0, -1.0, 1.0)
-    reflect_signs_y: ClassVar[tuple[float, ...] | None] = (1.0, 1.0, -1.0)
     aux_names = ("bed", "bed_x", "bed_y", "bed_twist")
     aux_reflect_signs = (1.0, -1.0, 1.0, -1.0)
     aux_reflect_signs_y: ClassVar[tuple[float, ...] | None] = (1.0, 1.0, -1.0, -1.0)
-    momentum_y_index: ClassVar[int | None] = 2
     has_source = True
     surface_aux = (BED, BED_X)
     surface_aux_y: ClassVar[tuple[int, int] | None] = (BED_Y, BED_TWIST)
-    admissible_rule = "finite h >= 0, and hu = hv = 0 where h < dry_tolerance"
     Parameters = ShallowWater2DParameters
     initial_kinds: ClassVar[dict[str, tuple[tuple[str, ...], dict[str, Any], str]]] = {
         "still-water": (
@@ -282,17 +267,6 @@ class ShallowWater2D(WaterOverBed):
                 "on this grid"
             )
         return total
-
-    def primitive_fields(self, q: Array) -> dict[str, Array]:
-        """Depth ``h`` and velocities ``u = hu / h``, ``v = hv / h`` (0 in a dry cell)."""
-        h = np.asarray(q[0])
-        wet = (h >= self.dry_depth()) & (h > 0.0)
-        safe = np.where(wet, h, 1.0)
-        return {
-            "h": h,
-            "u": np.where(wet, np.asarray(q[1]) / safe, 0.0),
-            "v": np.where(wet, np.asarray(q[2]) / safe, 0.0),
-        }
 
     def thacker(self, amplitude: float) -> ThackerPlanar:
         """Thacker's planar oscillation of amplitude ``amplitude`` in the model's bowl."""

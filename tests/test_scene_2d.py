@@ -34,6 +34,8 @@ SCENES_2D = [
     "sw2d-thacker",
     "burgers2d-smooth",
     "burgers2d-shock",
+    "sh2d-similarity",
+    "sh2d-runout",
 ]
 
 

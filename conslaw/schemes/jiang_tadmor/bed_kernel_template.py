@@ -312,10 +312,10 @@ def limit_cell(w, k, first, j, slots, ratio):
         u_l, u_r = slots[VELOCITY + 3 * n, j + 1], slots[VELOCITY + 3 * n + 2, j + 1]
         low_y, high_y = min(min(u_l, u_c), u_r), max(max(u_l, u_c), u_r)
         slope_x = bounded_momentum_slope(
-            depth, momentum, along_x, slots[SLOPE_X + m, j], low_x, high_x
+            depth, momentum, along_x, slots[SLOPE_X + m, j], low_x, high_x, m == MOMENTUM_Y
         )
         slope_y = bounded_momentum_slope(
-            depth, momentum, along_y, slots[SLOPE_Y + m, j], low_y, high_y
+            depth, momentum, along_y, slots[SLOPE_Y + m, j], low_y, high_y, m == MOMENTUM
         )
         low, high = min(low_x, low_y), max(high_x, high_y)
         largest = QUARTER_MARGIN * max(abs(low), abs(high))

@@ -204,14 +204,16 @@ def limited_depth_slope(along, across, ratio, depth):
 
 
 @njit(cache=True, inline="always")
-def bounded_momentum_slope(depth, momentum, depth_slope, slope, u_min, u_max):
+def bounded_momentum_slope(depth, momentum, depth_slope, slope, u_min, u_max, transverse):
     """The momentum slope clamped so that the velocities at both quarter points along its
-    direction stay in ``[u_min, u_max]`` (:func:`conslaw.schemes.depth_rules.
-    velocity_bounded_slope`)."""
+    direction stay in ``[u_min, u_max]``; a ``transverse`` one the mean of crossed ends
+    (:func:`conslaw.schemes.depth_rules.velocity_bounded_slope`)."""
     plus = depth + 0.25 * depth_slope
     minus = depth - 0.25 * depth_slope
     low = max(4.0 * (plus * u_min - momentum), 4.0 * (momentum - minus * u_max))
     high = min(4.0 * (plus * u_max - momentum), 4.0 * (momentum - minus * u_min))
+    if transverse and low > high:
+        return 0.5 * (low + high)
     return min(max(slope, low), high)
 
 
@@ -283,12 +285,12 @@ def depth_rules(w, k, first, count, slots):
             u_c, u_l, u_r = here[j + 1], here[j], here[j + 2]
             low_x, high_x = min(min(u_l, u_c), u_r), max(max(u_l, u_c), u_r)
             slope_x = bounded_momentum_slope(
-                depth, momentum, along_x[j], momentum_x[j], low_x, high_x
+                depth, momentum, along_x[j], momentum_x[j], low_x, high_x, m == MOMENTUM_Y
             )
             u_l, u_r = below[j + 1], above[j + 1]
             low_y, high_y = min(min(u_l, u_c), u_r), max(max(u_l, u_c), u_r)
             slope_y = bounded_momentum_slope(
-                depth, momentum, along_y[j], momentum_y[j], low_y, high_y
+                depth, momentum, along_y[j], momentum_y[j], low_y, high_y, m == MOMENTUM
             )
             outside = quarter_velocity_outside(
                 depth, momentum, along_x[j], along_y[j], slope_x, slope_y,

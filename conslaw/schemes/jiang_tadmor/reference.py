@@ -64,6 +64,7 @@ from conslaw.grid2d import Grid2D
 from conslaw.model import Model
 from conslaw.reconstruct import Reconstructor
 from conslaw.reconstruct.base import STENCIL_HALF_WIDTH
+from conslaw.schemes.coefficient_families import coefficient_family
 from conslaw.schemes.depth_rules import velocity_bounded_slope
 from conslaw.schemes.jiang_tadmor.bed import (
     QUARTER_SIGNS,
@@ -75,6 +76,7 @@ from conslaw.schemes.jiang_tadmor.bed import (
     still_water_depth,
 )
 from conslaw.schemes.jiang_tadmor.constants import QUARTER_MARGIN, STILL, TINY
+from conslaw.schemes.jiang_tadmor.quarter_sources import add_quarter_terms, corners, resist
 from conslaw.schemes.nessyahu_tadmor.constants import DEPTH_SLOPE_LIMIT, ROUND_OFF, THIN_TAIL
 
 Array = NDArray[np.float64]
@@ -212,14 +214,17 @@ class JiangTadmorReference:
         if model.n_dims != 2:
             raise ConfigError(f"jiang-tadmor needs a 2D model; '{model.name}' is 1D")
         uses = model.capabilities()
-        unsupported = [
-            key
-            for key in ("resistance", "dynamic_coefficients", "interface_coefficients")
-            if uses[key]
-        ]
-        if unsupported or (model.n_aux and model.surface_aux_y is None):
-            what = ", ".join(unsupported) or "coefficients other than a bed"
-            raise ConfigError(f"jiang-tadmor (reference): '{model.name}' needs {what}")
+        hooks = {
+            "dynamic_coefficients": model.coefficients_2d_point,
+            "interface_coefficients": model.corner_coefficients_point,
+            "rest_coefficients": None,
+        }
+        unsupported = [key for key, hook in hooks.items() if uses[key] and hook is None]
+        if unsupported:
+            raise ConfigError(
+                f"jiang-tadmor (reference): '{model.name}' needs {', '.join(unsupported)} "
+                "(the 2D forms: coefficients_2d_point, corner_coefficients_point)"
+            )
         if set(boundaries) != set(SIDES):
             raise ConfigError(f"boundaries: need {', '.join(SIDES)}, got {sorted(boundaries)}")
         for side, kind in boundaries.items():
@@ -239,6 +244,9 @@ class JiangTadmorReference:
         self.uses = uses
         self.periodic_x = boundaries["left"] == "periodic"
         self.periodic_y = boundaries["bottom"] == "periodic"
+        #: Coefficients along x (a chute) at the left and right quarter points of every padded
+        #: cell of each family (:meth:`_family_aux`), for the source at the quarter points.
+        self._quarters: dict[bool, tuple[Array, Array]] = {}
         self._aux = {staggered: self._family_aux(staggered) for staggered in (False, True)}
 
     def family_shape(self, staggered: bool) -> tuple[int, int]:
@@ -252,6 +260,8 @@ class JiangTadmorReference:
         rows, columns = self.family_shape(staggered)
         if model.n_aux == 0:
             return np.zeros((0, rows + 2 * GHOSTS, columns + 2 * GHOSTS))
+        if model.surface_aux_y is None:
+            return self._along_x_aux(staggered)
         quarters = quarter_averages(model, self.grid, self.boundaries)
         periodic = (self.periodic_x, self.periodic_y)
         aux = family_bed(quarters, self.grid, staggered, periodic)
@@ -263,6 +273,29 @@ class JiangTadmorReference:
             model.aux_reflect_signs_y or model.aux_reflect_signs or ones,
             states=False,
         )
+
+    def _along_x_aux(self, staggered: bool) -> Array:
+        """The coefficients of a model whose coefficients vary along x only (``Model.aux(x,
+        dx)``, a chute), padded: those of the 1D scheme at every column
+        (:func:`~conslaw.schemes.coefficient_families.coefficient_family`: ghost columns by
+        the rule of their side), the same in every row. Keeps those at the quarter points in
+        ``self._quarters[staggered]``."""
+        rows = self.family_shape(staggered)[0] + 2 * GHOSTS
+        rule = {"periodic": "wrap", "wall": "mirror"}
+        rules = (
+            rule.get(self.boundaries["left"], "copy"),
+            rule.get(self.boundaries["right"], "copy"),
+        )
+        offset = 0.5 if staggered else 0.0
+        family = coefficient_family(self.model, self.grid.x, offset, self.periodic_x, rules, GHOSTS)
+        centre, left, right = (
+            np.ascontiguousarray(
+                np.broadcast_to(aux[:, None, :], (aux.shape[0], rows, aux.shape[1]))
+            )
+            for aux in family
+        )
+        self._quarters[staggered] = (left, right)
+        return centre
 
     def still_water(self, surface: float) -> Array:
         """Primary-family values of still water at ``surface`` over the model's bed
@@ -337,23 +370,26 @@ class JiangTadmorReference:
                     w[tuple(ghosts)] *= signs.reshape(-1, 1, 1)
         return w
 
-    def courant_numbers(self, q: Array, dt: float) -> tuple[float, float]:
-        """``dt max|a_x| / dx`` and ``dt max|a_y| / dy`` of the cells of ``q``."""
-        speed_x, speed_y = self.max_speeds(q)
+    def courant_numbers(self, q: Array, dt: float, staggered: bool = False) -> tuple[float, float]:
+        """``dt max|a_x| / dx`` and ``dt max|a_y| / dy`` of the cells of ``q`` (of the
+        primary family, or the staggered one)."""
+        speed_x, speed_y = self.max_speeds(q, staggered)
         return dt * speed_x / self.grid.dx, dt * speed_y / self.grid.dy
 
-    def max_speeds(self, q: Array) -> tuple[float, float]:
-        """The largest wave speeds in x and in y of the cells of ``q``."""
+    def max_speeds(self, q: Array, staggered: bool = False) -> tuple[float, float]:
+        """The largest wave speeds in x and in y of the cells of ``q`` (of the primary
+        family, or the staggered one: the wave speeds read the family's coefficients)."""
         flat = q.reshape(q.shape[0], -1)
-        speed_x = float(np.max(self.model.max_wave_speed(flat)))
-        speed_y = float(np.max(self.model.max_wave_speed(flat, direction="y")))
+        aux = _columns(self.family_aux(staggered)) if self.model.n_aux else None
+        speed_x = float(np.max(self.model.max_wave_speed(flat, aux)))
+        speed_y = float(np.max(self.model.max_wave_speed(flat, aux, direction="y")))
         return speed_x, speed_y
 
-    def stable_dt(self, q: Array) -> float:
+    def stable_dt(self, q: Array, staggered: bool = False) -> float:
         """The largest ``dt`` with both Courant numbers at most ``cfl``, ``min(cfl dx / max|a_x|,
         cfl dy / max|a_y|)`` (inf at rest; the 1D kernel's ``cfl dx / a_max`` in a direction
-        along which nothing moves)."""
-        speed_x, speed_y = self.max_speeds(q)
+        along which nothing moves), for ``q`` of the primary family or the staggered one."""
+        speed_x, speed_y = self.max_speeds(q, staggered)
         dt_x = self.cfl * self.grid.dx / speed_x if speed_x > 0.0 else np.inf
         dt_y = self.cfl * self.grid.dy / speed_y if speed_y > 0.0 else np.inf
         return min(dt_x, dt_y)
@@ -562,7 +598,10 @@ class JiangTadmorReference:
             for axis, slopes in ((1, slopes_x), (0, slopes_y)):
                 u_min, u_max = _neighbour_range(u, rows, columns, axis)
                 ranges.append((u_min, u_max))
-                slopes[m] = velocity_bounded_slope(h, q, slopes[d], slopes[m], u_min, u_max)
+                transverse = (m == model.momentum_index) == (axis == 0)
+                slopes[m] = velocity_bounded_slope(
+                    h, q, slopes[d], slopes[m], u_min, u_max, transverse
+                )
             low = np.minimum(ranges[0][0], ranges[1][0])
             high = np.maximum(ranges[0][1], ranges[1][1])
             outside = quarter_velocity_outside(
@@ -595,7 +634,10 @@ class JiangTadmorReference:
             still_here = still[rows, columns]
             floors = np.where(still_here, 0.0, 0.5 * h) * np.ones((4, 1, 1))
         slopes_x, slopes_y, twist = self._limited_slopes(w, rows, columns, raw, floors)
+        aux = self._cell_coefficients(values, slopes_x, slopes_y, aux)
         predicted = self._predictor(values, slopes_x, slopes_y, aux, dt)
+        if self.uses["resistance"]:
+            self._resist_predicted(values, aux, predicted, dt)
         if still is not None and np.any(still_here):
             # The quarters are limited again by what the predicted fluxes drain; the predictor
             # keeps the first slopes, so that what drains a quarter is what was measured.
@@ -612,7 +654,7 @@ class JiangTadmorReference:
         SchemeBreakdownError
             If a Courant number of ``q`` reaches 1/2 with this ``dt``.
         """
-        if max(self.courant_numbers(q, dt)) >= CFL_LIMIT:
+        if max(self.courant_numbers(q, dt, staggered)) >= CFL_LIMIT:
             raise SchemeBreakdownError(
                 f"dt={dt:g} makes a Courant number reach {CFL_LIMIT} (Jiang & Tadmor 1998)"
             )
@@ -625,23 +667,12 @@ class JiangTadmorReference:
         aux, slopes_x, slopes_y, twist, predicted = self._reconstruct(
             w, rows, columns, staggered, dt
         )
-        flat, flat_aux = _columns(predicted), _columns(aux)
-        f = self.model.flux(flat, flat_aux).reshape(predicted.shape)
-        g = self.model.flux(flat, flat_aux, direction="y").reshape(predicted.shape)
-
-        def corners(array: Array) -> tuple[Array, Array, Array, Array]:
-            return (
-                array[..., :-1, :-1],
-                array[..., :-1, 1:],
-                array[..., 1:, :-1],
-                array[..., 1:, 1:],
-            )
-
         a, b, c, d_ = corners(values)
         xa, xb, xc, xd = corners(slopes_x)
         ya, yb, yc, yd = corners(slopes_y)
-        fa, fb, fc, fd = corners(f)
-        ga, gb, gc, gd = corners(g)
+        (fa, fb, fc, fd), (ga, gb, gc, gd) = self._corner_fluxes(
+            predicted, aux, self._aux[staggered][:, rows, columns]
+        )
         new = (
             0.25 * ((a + b) + (c + d_))
             + 0.0625 * ((xa - xb) + (xc - xd))
@@ -669,7 +700,63 @@ class JiangTadmorReference:
             new[d] = np.where(emptied, 0.0, new[d])
         if self.uses["balanced_source"]:
             new += dt * self._balanced_sources(predicted, aux)
+        elif self.uses["source"] and self._quarters:
+            left, right = self._quarters[staggered]
+            quarter_aux = (left[:, rows, columns], right[:, rows, columns])
+            parts = (predicted, slopes_x, slopes_y)
+            add_quarter_terms(self.model, new, parts, quarter_aux, dt, self.uses["resistance"])
         return self._finish(new, w, first, staggered, dt)
+
+    def _cell_coefficients(
+        self, values: Array, slopes_x: Array, slopes_y: Array, aux: Array
+    ) -> Array:
+        """The coefficients of every source cell for its predictor: ``aux`` with the model's
+        ``coefficients_2d_point`` applied (the earth pressure from the slopes), or ``aux``."""
+        if not self.uses["dynamic_coefficients"]:
+            return aux
+        cells = self.model.coefficients_2d(
+            _columns(values), _columns(slopes_x), _columns(slopes_y), _columns(aux)
+        )
+        return cells.reshape(aux.shape)
+
+    def _resist_predicted(self, values: Array, aux: Array, predicted: Array, dt: float) -> None:
+        """The resistance over half a step applied to the predicted momenta (in place), by
+        the stopping rule of :func:`~conslaw.schemes.jiang_tadmor.quarter_sources.resist`
+        (the 1D predictor's)."""
+        model = self.model
+        m_x, m_y = model.momentum_index, model.momentum_y_index
+        assert m_x is not None and m_y is not None
+        rate = model.resistance(_columns(values), _columns(aux)).reshape(values.shape[1:])
+        resist(predicted[m_x], predicted[m_y], 0.5 * dt * rate)
+
+    def _corner_fluxes(
+        self, predicted: Array, aux: Array, static: Array
+    ) -> tuple[tuple[Array, ...], tuple[Array, ...]]:
+        """The x and y fluxes of the predicted values of the corner cells ``a``, ``b``, ``c``,
+        ``d`` of every new cell: with the coefficients ``aux`` of each source cell, or, for a
+        model with corner coefficients, with the static coefficients ``static`` of each source
+        cell whose rows ``varying_aux_rows`` are those the model chooses for the new cell
+        (``corner_coefficients_point``; one earth pressure for every flux of the cell)."""
+        model = self.model
+        if not self.uses["interface_coefficients"]:
+            flat, flat_aux = _columns(predicted), _columns(aux)
+            f = model.flux(flat, flat_aux).reshape(predicted.shape)
+            g = model.flux(flat, flat_aux, direction="y").reshape(predicted.shape)
+            return corners(f), corners(g)
+        states = corners(predicted)
+        shape = states[0].shape
+        flat_states = [_columns(q) for q in states]
+        statics = corners(static)
+        a, b, c, d = flat_states
+        chosen = model.corner_coefficients(a, b, c, d, _columns(statics[0]))
+        fluxes_x, fluxes_y = [], []
+        for q, own in zip(flat_states, statics, strict=True):
+            corner_aux = _columns(own).copy()
+            rows = list(model.varying_aux_rows)
+            corner_aux[rows] = chosen[rows]
+            fluxes_x.append(model.flux(q, corner_aux).reshape(shape))
+            fluxes_y.append(model.flux(q, corner_aux, direction="y").reshape(shape))
+        return tuple(fluxes_x), tuple(fluxes_y)
 
     def _finish(self, new: Array, w: Array, first: int, staggered: bool, dt: float) -> Array:
         """The model's correction of the new cells, then the velocity bound of thin tails."""
@@ -783,12 +870,24 @@ class JiangTadmorReference:
         middle = self.step(q, False, dt)
         if depth is not None and np.min(middle[depth]) < 0.0:
             return None, 0.5 * dt
-        if max(self.courant_numbers(middle, dt)) >= CFL_LIMIT:
-            return None, self.stable_dt(middle)
+        if max(self.courant_numbers(middle, dt, True)) >= CFL_LIMIT:
+            return None, self.stable_dt(middle, True)
         end = self.step(middle, True, dt)
         if depth is not None and np.min(end[depth]) < 0.0:
             return None, 0.5 * dt
-        return end, dt
+        return (q.copy() if self.held_at_rest(q, end) else end), dt
+
+    def held_at_rest(self, start: Array, end: Array) -> bool:
+        """Whether a step pair from ``start`` to ``end`` (primary values) left everything at
+        rest: a model with a resistance (Coulomb friction), every momentum exactly 0 at both
+        ends. Nothing has moved then (``h_t = -div(h u) = 0``), and the pair's end is its start,
+        bit for bit: the staggered averaging would otherwise smear a pile at rest (the 1D rule,
+        docs/design.md, "Savage–Hutter specifics")."""
+        model = self.model
+        if not self.uses["resistance"]:
+            return False
+        rows = [m for m in (model.momentum_index, model.momentum_y_index) if m is not None]
+        return bool(np.all(start[rows] == 0.0) and np.all(end[rows] == 0.0))
 
     def advance(self, q: Array, t: float, t_end: float) -> tuple[Array, float, int]:
         """Advance primary-family values ``q`` from ``t`` to exactly ``t_end`` by step pairs of

@@ -375,7 +375,7 @@ class JiangTadmor:
         their statistics."""
         if not self.compiled:
             self.states[buffer] = np.asarray(q, dtype=np.float64)
-            self.statistics[buffer] = self._reference_statistics(self.states[buffer])
+            self.statistics[buffer] = self._reference_statistics(self.states[buffer], buffer == 1)
             return
         staggered = buffer == 1
         rows, columns = self.shapes[staggered]
@@ -386,13 +386,14 @@ class JiangTadmor:
             self.states[buffer], rows, columns, self.params, self.statistics[buffer]
         )
 
-    def _reference_statistics(self, values: Array) -> Array:
-        """The statistics of a family of the reference's steps as one row, as the kernel's
+    def _reference_statistics(self, values: Array, staggered: bool) -> Array:
+        """The statistics of a family (``staggered`` or primary) of the reference's steps as
+        one row, as the kernel's
         ``row_statistics`` of all its cells: the speeds and the smallest depth NaN if a value
         or a wave speed is not finite."""
         statistics = np.array([[0.0, 0.0, np.inf, -np.inf]])
         with np.errstate(invalid="ignore", over="ignore"):
-            speeds = self.reference.max_speeds(values)
+            speeds = self.reference.max_speeds(values, staggered)
         statistics[0, SPEED_X], statistics[0, SPEED_Y] = speeds
         depth = self.model.depth_index
         if depth is not None:
@@ -408,7 +409,7 @@ class JiangTadmor:
         if not self.compiled:
             new = self.reference.step(self.states[source], staggered, dt)
             self.states[target] = new
-            self.statistics[target] = self._reference_statistics(new)
+            self.statistics[target] = self._reference_statistics(new, not staggered)
             return self.statistics[target]
         kernels = self.kernels
         rows, columns = self.shapes[not staggered]
@@ -445,6 +446,9 @@ class JiangTadmor:
         self._check_finite(2, 2, 2.0 * dt)
         if self._negative_depth(end):
             return False, 0.5 * dt
+        if not self.compiled and self.reference.held_at_rest(self.states[0], self.states[2]):
+            self.states[2] = self.states[0].copy()
+            self.statistics[2] = self.statistics[0].copy()
         return True, dt
 
     def _check_finite(self, buffer: int, step: int, elapsed: float) -> None:

@@ -26,6 +26,7 @@ from conslaw.schemes.base import (
     ProgressCallback,
     Scheme,
 )
+from conslaw.schemes.coefficient_families import coefficient_family, padded_positions
 from conslaw.schemes.depth_rules import velocity_bounded_slope
 from conslaw.schemes.nessyahu_tadmor.constants import DEPTH_SLOPE_LIMIT, THIN_TAIL
 from conslaw.schemes.nessyahu_tadmor.kernels import kernel_parameters, nt_kernels
@@ -192,78 +193,14 @@ class NessyahuTadmor(Scheme):
 
     # ------------------------------------------------------------------ set-up
     def _padded_positions(self, offset: float) -> Array:
-        shift = 0.5 if offset == 0.0 else 0.0
-        n = self.grid.n_cells_at(offset, self.periodic)
-        index = np.arange(n + 2 * GHOSTS, dtype=np.float64)
-        return self.grid.x_min + self.grid.dx * (index - GHOSTS + shift)
+        return padded_positions(self.grid, offset, self.periodic, GHOSTS)
 
     def _aux_family(self, offset: float) -> tuple[Array, Array, Array]:
-        """Model coefficients at the centres and quarter points of one padded cell family.
-
-        Ghost cells get coefficients by the rule of their boundary condition (mirror image at a
-        wall, wrapped if periodic, the edge cell's otherwise), so that a state the boundary
-        condition reproduces (a lake at rest) sees a consistent bed in its ghosts.
-        """
-        x = self._padded_positions(offset)
-        n = self.grid.n_cells_at(offset, self.periodic)
-        model = self.model
-        centre = x.copy()
-        direction = np.ones_like(x)  # +1: left quarter at centre - dx/4; -1 for mirror images
-        signs = np.ones((model.n_aux, x.size))
-        odd = np.array(model.aux_reflect_signs or (1.0,) * model.n_aux, dtype=np.float64)
-        sides = (
-            (self.left.condition, slice(0, GHOSTS), self.grid.x_min, GHOSTS),
-            (self.right.condition, slice(GHOSTS + n, x.size), self.grid.x_max, GHOSTS + n - 1),
-        )
-        for condition, ghosts, boundary, edge in sides:
-            rule = condition.ghost_coefficients
-            if rule == "wrap":
-                # The ghost takes the position of the real cell it copies, by index: wrapping
-                # positions by the period would put a staggered ghost that lands on the period's
-                # end (x = x_max -+ round-off) on the wrong side of it, and a chute or bed that
-                # is not periodic would then differ between the ghost and its cell (mass lost).
-                index = np.arange(x.size)[ghosts]
-                centre[ghosts] = x[GHOSTS + np.mod(index - GHOSTS, n)]
-            elif rule == "mirror":
-                centre[ghosts] = 2.0 * boundary - x[ghosts]
-                direction[ghosts] = -1.0
-                signs[:, ghosts] = odd[:, None]
-            else:
-                centre[ghosts] = x[edge]
-        quarter = 0.25 * self.grid.dx
-        result = []
-        for points, width in (
-            (centre, self.grid.dx),
-            (centre - direction * quarter, 0.5 * self.grid.dx),
-            (centre + direction * quarter, 0.5 * self.grid.dx),
-        ):
-            values = np.asarray(model.aux(points, width), dtype=np.float64) * signs
-            result.append(np.ascontiguousarray(values))
-        if offset != 0.0 and not self.periodic:
-            self._symmetric_wall_cells(result, n, odd)
-        return result[0], result[1], result[2]
-
-    def _symmetric_wall_cells(self, aux: list[Array], n: int, odd: Array) -> None:
-        """Staggered cells centred on a wall are half outside the domain, where the state is the
-        mirror image: their coefficients are those of the inner half cell (odd rows, slopes,
-        vanish) and the outer quarter is the mirror of the inner one."""
-        quarter = 0.25 * self.grid.dx
-        half = 0.5 * self.grid.dx
-        for condition, index, inward in (
-            (self.left.condition, GHOSTS, 1.0),
-            (self.right.condition, GHOSTS + n - 1, -1.0),
-        ):
-            if condition.ghost_coefficients != "mirror":
-                continue
-            wall = self.grid.x_min if inward > 0 else self.grid.x_max
-            inner = np.asarray(self.model.aux(np.array([wall + inward * quarter]), half))[:, 0]
-            centre, left_quarter, right_quarter = aux
-            centre[:, index] = np.where(odd < 0, 0.0, inner)
-            inner_quarter, outer_quarter = (
-                (right_quarter, left_quarter) if inward > 0 else (left_quarter, right_quarter)
-            )
-            inner_quarter[:, index] = inner
-            outer_quarter[:, index] = inner * odd
+        """Model coefficients at the centres and quarter points of one padded cell family
+        (:func:`~conslaw.schemes.coefficient_families.coefficient_family`, ghost cells by the
+        rule of their boundary condition)."""
+        rules = (self.left.condition.ghost_coefficients, self.right.condition.ghost_coefficients)
+        return coefficient_family(self.model, self.grid, offset, self.periodic, rules, GHOSTS)
 
     @property
     def kernels(self) -> Any:
