@@ -328,3 +328,37 @@ def test_the_similarity_solution_converges_at_first_order(reconstructor: str) ->
     ]
     assert errors[0] is not None and errors[1] is not None
     assert math.log2(errors[0] / errors[1]) >= 1.0, errors
+
+
+@pytest.mark.parametrize("reconstructor", ["none", "minmod", "mc", "weno5"])
+@settings(max_examples=8, deadline=None)
+@given(
+    epsilon=log_uniform(1e-2, 10.0),
+    seed=st.integers(0, 2**32 - 1),
+    sides=st.sampled_from([WALLS, PERIODIC]),
+)
+def test_frictionless_isotropic_flow_on_a_flat_bed_is_shallow_water(
+    reconstructor: str, epsilon: float, seed: int, sides: dict[str, str]
+) -> None:
+    """With ``zeta = 0``, ``delta = 0`` and ``K = 1`` the scaled Savage–Hutter equations are the
+    shallow-water equations with ``g = eps``: the 2D models' step pairs agree bit for bit on
+    random states with dry cells (the Savage–Hutter steps by numpy, the shallow-water ones by
+    the compiled kernel)."""
+    rng = np.random.default_rng(seed)
+    shape = (9, 12)
+    h = np.abs(rng.normal(1.0, 0.7, shape)) * (rng.random(shape) > 0.2)
+    q = np.stack([h, h * rng.normal(0, 1, shape), h * rng.normal(0, 1, shape)])
+    grid = Grid2D.from_bounds(0.0, 1.2, 12, 0.0, 0.9, 9)
+    limiter = registry.reconstructors.get(reconstructor)
+    granular = SavageHutter2D(
+        epsilon=epsilon, phi=30.0, delta=0.0, zeta=0.0, earth_pressure="isotropic"
+    )
+    water = registry.models.get("shallow-water-2d")(g=epsilon)
+    avalanche = JiangTadmor(granular, limiter, grid, sides, threads=1)
+    flood = JiangTadmor(water, limiter, grid, sides, threads=1)
+    assert not avalanche.compiled and flood.compiled
+    t_end = 4.0 * avalanche.reference.stable_dt(q)
+    end_granular, _, steps_granular = avalanche.advance(q, 0.0, t_end)
+    end_water, _, steps_water = flood.advance(q, 0.0, t_end)
+    assert steps_granular == steps_water
+    np.testing.assert_array_equal(end_granular, end_water)
