@@ -322,8 +322,11 @@ class SavageHutter2D(TwoDimensionalRows, DepthAveragedModel):
             values[key] = [finite_number(v, f"initial.{key}") for v in pair]
         height = finite_number(options["height"], "initial.height")
         thin = finite_number(options["thin_layer"], "initial.thin_layer")
-        if min(values["radii"]) <= 0 or height < 0 or thin < 0:
-            raise ConfigError("initial: need radii > 0, height >= 0 and thin_layer >= 0")
+        if min(values["radii"]) <= 0:
+            raise ConfigError(f"initial.radii: both must be > 0, got {options['radii']!r}")
+        for key, value in (("height", height), ("thin_layer", thin)):
+            if value < 0:
+                raise ConfigError(f"initial.{key}: must be >= 0, got {value!r}")
         zeta = self.chute.angle if isinstance(self.chute, PlaneChute) else 0.0
         tan_delta = math.tan(math.radians(self.params.delta))
         slope = math.sin(zeta) - tan_delta * math.cos(zeta)
