@@ -487,17 +487,17 @@ CASES: list[BadInput] = [
         ["boundary 'inflow' state must be finite"],
     ),
     bad(
-        "cap-radius-zero",
+        "cap-2d-radius-zero",
         ["run", "sh2d-similarity", "--set", "initial.radii=[0, 1]"],
         ["initial.radii: both must be > 0"],
     ),
     bad(
-        "cap-centre-one-number",
+        "cap-2d-centre-one-number",
         ["run", "sh2d-similarity", "--set", "initial.centre=[1]"],
         ["initial.centre: expected a list of two numbers"],
     ),
     bad(
-        "cap-negative-height",
+        "cap-2d-negative-height",
         ["run", "sh2d-similarity", "--set", "initial.height=-1"],
         ["initial.height: must be >= 0"],
     ),
