@@ -174,6 +174,11 @@ class Model(ABC):
     #: the depth is then reconstructed as the surface minus the bed in both directions
     #: (docs/design.md, "Toward two dimensions").
     surface_aux_y: ClassVar[tuple[int, int] | None] = None
+    #: How a 2D model's coefficients vary over the plane: ``"bed"`` (a bed from
+    #: ``quarter_bed``, with :attr:`surface_aux` and :attr:`surface_aux_y`) or ``"along-x"``
+    #: (:meth:`aux` of the arc length, the same in every row: a chute); ``""`` without
+    #: coefficients. The 2D scheme refuses a model with coefficients and neither.
+    aux_layout_2d: ClassVar[str] = ""
     #: Sign of every coefficient row in the mirror image across a y wall; None: all +1.
     aux_reflect_signs_y: ClassVar[tuple[float, ...] | None] = None
     #: Optional ``coefficients_2d_point(q, slope_x, slope_y, aux, params)``: a 2D model's
@@ -190,6 +195,10 @@ class Model(ABC):
     #: Initial-condition kinds this model adds: kind -> (required keys, defaults, description);
     #: built by :meth:`initial_cell_averages`.
     initial_kinds: ClassVar[dict[str, tuple[tuple[str, ...], dict[str, Any], str]]] = {}
+    #: This model's meaning of a parameter where it differs from the one declared in its
+    #: ``Parameters`` (a 2D model sharing the 1D model's parameters): key -> meaning
+    #: (docs/parameters.md takes it from here).
+    parameter_meanings: ClassVar[Mapping[str, str]] = {}
     #: What :meth:`is_admissible` requires, for error messages.
     admissible_rule: ClassVar[str] = "every variable finite"
 
@@ -516,7 +525,20 @@ class Model(ABC):
 
     def coefficients_2d(self, q: Array, slopes_x: Array, slopes_y: Array, aux: Array) -> Array:
         """Copy of ``aux`` with ``coefficients_2d_point`` applied column by column (``aux``
-        itself, copied, if the model does not use it)."""
+        itself, copied, if the model does not use it).
+
+        Parameters
+        ----------
+        q, slopes_x, slopes_y : numpy.ndarray
+            ``(n_vars, n)``: the cells' values and their limited slopes in x and in y.
+        aux : numpy.ndarray
+            ``(n_aux, n)``: the cells' static coefficients.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n_aux, n)``.
+        """
         q, out = self._prepare(q, aux)
         out = out.copy()
         point = type(self).coefficients_2d_point
@@ -533,7 +555,21 @@ class Model(ABC):
 
     def corner_coefficients(self, a: Array, b: Array, c: Array, d: Array, aux: Array) -> Array:
         """Copy of ``aux`` with ``corner_coefficients_point`` applied to every column of the
-        corner states ``a``, ``b``, ``c``, ``d`` (each ``(n_vars, n)``)."""
+        corner states.
+
+        Parameters
+        ----------
+        a, b, c, d : numpy.ndarray
+            ``(n_vars, n)``: the lower-left, lower-right, upper-left and upper-right corner
+            states of ``n`` staggered cells.
+        aux : numpy.ndarray
+            ``(n_aux, n)``: their static coefficients.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n_aux, n)``.
+        """
         a, b, c, d = (self._prepare(q, None)[0] for q in (a, b, c, d))
         out = np.array(aux, dtype=np.float64, order="C", copy=True)
         point = type(self).corner_coefficients_point

@@ -31,7 +31,18 @@ def velocity(h, m, dry_tolerance):
 def momentum_jacobian_x(u, v, celerity_squared, out):
     """The x-flux Jacobian of a 2D depth-averaged model, ``q = (h, h u, h v)`` with the
     pressure ``celerity_squared h / 2`` (``g h`` in shallow water, ``beta_x h`` in
-    Savage–Hutter): ``A = [[0, 1, 0], [c^2 - u^2, 2 u, 0], [-u v, v, u]]``."""
+    Savage–Hutter): ``A = [[0, 1, 0], [c^2 - u^2, 2 u, 0], [-u v, v, u]]`` (the derivative of
+    ``F = (h u, h u^2 + c^2 h / 2, h u v)``; LeVeque 2002, sec. 18.8).
+
+    Parameters
+    ----------
+    u, v : float
+        The velocity.
+    celerity_squared : float
+        ``c^2``: the derivative of the pressure term with respect to ``h``.
+    out : numpy.ndarray
+        The ``3 x 3`` matrix, set in place.
+    """
     out[0, 0] = 0.0
     out[0, 1] = 1.0
     out[0, 2] = 0.0
@@ -46,7 +57,17 @@ def momentum_jacobian_x(u, v, celerity_squared, out):
 @njit(cache=True)
 def momentum_jacobian_y(u, v, celerity_squared, out):
     """The y-flux Jacobian of :func:`momentum_jacobian_x`'s models: ``B = [[0, 0, 1], [-u v,
-    v, u], [c^2 - v^2, 0, 2 v]]``."""
+    v, u], [c^2 - v^2, 0, 2 v]]``, the derivative of ``G = (h v, h u v, h v^2 + c^2 h / 2)``.
+
+    Parameters
+    ----------
+    u, v : float
+        The velocity.
+    celerity_squared : float
+        ``c^2``: the derivative of the y pressure term with respect to ``h``.
+    out : numpy.ndarray
+        The ``3 x 3`` matrix, set in place.
+    """
     out[0, 0] = 0.0
     out[0, 1] = 0.0
     out[0, 2] = 1.0

@@ -270,8 +270,19 @@ class SavageHutterParameters:
 
 
 def chute_and_pressures(p: SavageHutterParameters) -> tuple[Chute, float, float]:
-    """The chute of the parameters ``p`` and ``(K_act, K_pass)`` (eq. 6; both 1 for
-    ``earth_pressure = "isotropic"``), shared by the 1D and the 2D model."""
+    """The chute of the parameters ``p`` and ``(K_act, K_pass)`` (Tai et al. 2001, eq. 6;
+    both 1 for ``earth_pressure = "isotropic"``), shared by the 1D and the 2D model.
+
+    Parameters
+    ----------
+    p : SavageHutterParameters
+
+    Returns
+    -------
+    chute : Chute
+    k_active, k_passive : float
+        ``2 (1 -+ sqrt(1 - cos^2 phi / cos^2 delta)) / cos^2 phi - 1``.
+    """
     chute = make_chute(
         p.chute, p.zeta, p.transition_start, p.transition_end, p.zeta_end, p.chute_file
     )
@@ -284,7 +295,21 @@ def chute_and_pressures(p: SavageHutterParameters) -> tuple[Chute, float, float]
 def check_chute_covers(chute: Chute, p: SavageHutterParameters, x_min: float, x_max: float) -> None:
     """A chute table must cover the domain ``[x_min, x_max]``, unless ``chute_extend`` says to
     continue it as planes at the angles of its ends (a domain in other coordinates than the
-    table's would otherwise run down an endless plane unnoticed); a ConfigError otherwise."""
+    table's would otherwise run down an endless plane unnoticed).
+
+    Parameters
+    ----------
+    chute : Chute
+    p : SavageHutterParameters
+        Its ``chute_extend``.
+    x_min, x_max : float
+        The domain along x.
+
+    Raises
+    ------
+    ConfigError
+        Naming ``parameters.chute_file``, the uncovered part and the ways out.
+    """
     problem = chute.uncovered(x_min, x_max)
     if problem is not None and not p.chute_extend:
         raise ConfigError(

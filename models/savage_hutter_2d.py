@@ -3,8 +3,8 @@ Mech. 86, 201–223; Gray, Wieland & Hutter 1999, Proc. R. Soc. Lond. A 455, 184
 conservative form as the 1D model of Tai et al. (2001)::
 
     h_t + (h u)_x + (h v)_y = 0
-    (h u)_t + (h u^2 + beta_x h^2 / 2)_x + (h u v)_y = h (sin zeta - F u/|u|)
-    (h v)_t + (h u v)_x + (h v^2 + beta_y h^2 / 2)_y = -h F v/|u|
+    (h u)_t + (h u^2 + beta_x h^2 / 2)_x + (h u v)_y = h (sin zeta - F u/|(u, v)|)
+    (h v)_t + (h u v)_x + (h v^2 + beta_y h^2 / 2)_y = -h F v/|(u, v)|
 
 with x the arc length down the chute (inclination ``zeta(x)``, curvature ``kappa``), y across
 it, ``beta_x = eps cos zeta K_x``, ``beta_y = eps cos zeta K_y`` and the Coulomb friction
@@ -185,6 +185,27 @@ def corner_coefficients_point(a, b, c, d, aux, params):
     aux[KY] = lateral_coefficient(k_x, along_y, params[TAN_DELTA])
 
 
+def check_cap_resolved(cap: EllipticCap, grid: Grid2D) -> None:
+    """Refuse a cap narrower than a cell in either direction: its cell averages (Gauss points on
+    sub-cells) would lose or distort its volume, silently.
+
+    Parameters
+    ----------
+    cap : EllipticCap
+    grid : Grid2D
+
+    Raises
+    ------
+    ConfigError
+        Naming ``initial.radii``, the radii and the cell widths.
+    """
+    if cap.a0 < grid.dx or cap.b0 < grid.dy:
+        raise ConfigError(
+            f"initial.radii: [{cap.a0:g}, {cap.b0:g}] is narrower than a cell (dx = "
+            f"{grid.dx:g}, dy = {grid.dy:g}): refine the grid or widen the cap"
+        )
+
+
 class SavageHutter2D(TwoDimensionalRows, DepthAveragedModel):
     """Savage–Hutter granular avalanche in 2D, ``q = (h, h u, h v)``, on a chute that curves
     along x (the parameters and chutes of the 1D model, :mod:`conslaw_models.savage_hutter`)."""
@@ -205,9 +226,31 @@ class SavageHutter2D(TwoDimensionalRows, DepthAveragedModel):
         "u": "downslope velocity / (g L)^(1/2) (dimensionless)",
         "v": "cross-slope velocity / (g L)^(1/2) (dimensionless)",
     }
+    parameter_meanings: ClassVar[Mapping[str, str]] = {
+        "phi": (
+            r"internal friction angle $\phi$ in degrees, $\delta \le \phi < 90$; $K_x$ switches "
+            r"between $K_{act}$ and $K_{pass}$ where $\phi > \delta$, and $K_y$ between its two "
+            r"roots wherever $\delta > 0$ ([design](design.md), Savage–Hutter in two dimensions)"
+        ),
+        "delta": (
+            r"bed friction angle $\delta$ in degrees, $0 \le \delta \le \phi$; the Coulomb "
+            r"friction opposes the velocity vector $(u, v)$ and can stop it, never reverse it"
+        ),
+        "earth_pressure": (
+            r"`savage-hutter`: $K_x = K_{act}$ where $u_x \ge 0$, else $K_{pass}$; $K_y = (K_x + "
+            r"1 \mp \sqrt{(K_x - 1)^2 + 4 \tan^2\delta})/2$, the minus (active) root where $v_y "
+            r"\ge 0$; `isotropic`: $K_x = K_y = 1$"
+        ),
+        "chute": (
+            "the bed along x, the same across y: `plane` (inclination `zeta`), `paper` (Tai et "
+            "al. 2001 Fig. 3: `zeta`, then turning linearly to `zeta_end` between "
+            "`transition_start` and `transition_end`), `table` (`chute_file`)"
+        ),
+    }
     aux_names = ("sin_zeta", "cos_zeta", "lambda_kappa", "K_x", "K_y")
     aux_reflect_signs = (-1.0, 1.0, 1.0, 1.0, 1.0)
     varying_aux_rows: ClassVar[tuple[int, ...]] = (KX, KY)
+    aux_layout_2d = "along-x"
     has_source = True
     Parameters = SavageHutterParameters
     initial_kinds: ClassVar[dict[str, tuple[tuple[str, ...], dict[str, Any], str]]] = {
@@ -309,6 +352,7 @@ class SavageHutter2D(TwoDimensionalRows, DepthAveragedModel):
         if kind != "cap":
             return super().initial_cell_averages_2d(kind, options, grid)
         cap = self._cap(options, 0.0)
+        check_cap_resolved(cap, grid)
         h = cap.cell_averages(grid.x.edges, grid.y.edges, 0.0)[0] + float(options["thin_layer"])
         return np.stack([h, np.zeros_like(h), np.zeros_like(h)])
 
@@ -356,13 +400,12 @@ class SavageHutter2D(TwoDimensionalRows, DepthAveragedModel):
             raise Unavailable("the thin layer is thicker than 1e-3 of the cap height")
         t_end = float(context["t_end"])
         cap = self._cap(options, t_end)
-        x_c, y_c, a, b = cap.margin(t_end)
-        x0 = float(options["centre"][0]) - float(options["radii"][0])
+        x_low, x_high, y_low, y_high = cap.extent()
         if (
-            min(x0, x_c - a) < grid.x.x_min
-            or x_c + a > grid.x.x_max
-            or y_c - b < grid.y.x_min
-            or y_c + b > grid.y.x_max
+            x_low < grid.x.x_min
+            or x_high > grid.x.x_max
+            or y_low < grid.y.x_min
+            or y_high > grid.y.x_max
         ):
             raise Unavailable(f"the margin leaves the domain before t={t_end:g}")
         return cap

@@ -27,19 +27,30 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.integrate import solve_ivp
 
+from conslaw.exact import Unavailable
 from conslaw.exact2d import gauss_average
 
 Array = NDArray[np.float64]
 
 #: Relative and absolute tolerance of the integration of the ordinary differential equations.
 ODE_TOLERANCE = 1e-12
+#: Times, besides the integrator's own steps, at which :meth:`EllipticCap.extent` looks for
+#: the margin's extremes.
+EXTENT_SAMPLES = 1025
 
 
 @dataclass(frozen=True)
 class EllipticCap:
     """The similarity solution released at rest at ``t = 0`` with centre ``(x0, y0)``, axes
     ``(a0, b0)`` and height ``height``; ``beta_x``, ``beta_y`` and the acceleration ``slope``
-    as in the module docstring. :meth:`axes` integrates the equations up to ``t_end``."""
+    as in the module docstring. The equations are integrated up to ``t_end`` when the cap is
+    made.
+
+    Raises
+    ------
+    Unavailable
+        If the integration fails (its message says why).
+    """
 
     x0: float
     y0: float
@@ -53,6 +64,9 @@ class EllipticCap:
     _solution: object = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
+        if self.t_end <= 0.0:
+            object.__setattr__(self, "_solution", None)
+            return
         volume = self.height * self.a0 * self.b0
 
         def rates(t: float, y: Array) -> list[float]:
@@ -60,20 +74,27 @@ class EllipticCap:
             h0 = volume / (a * b)
             return [a_dot, 2.0 * self.beta_x * h0 / a, b_dot, 2.0 * self.beta_y * h0 / b]
 
-        solution = solve_ivp(
-            rates,
-            (0.0, max(self.t_end, 0.0)),
-            [self.a0, 0.0, self.b0, 0.0],
-            method="DOP853",
-            rtol=ODE_TOLERANCE,
-            atol=ODE_TOLERANCE * min(self.a0, self.b0),
-            dense_output=True,
-        )
+        # A failed integration (overflow on absurd axes) is reported below, not warned.
+        with np.errstate(all="ignore"):
+            solution = solve_ivp(
+                rates,
+                (0.0, self.t_end),
+                [self.a0, 0.0, self.b0, 0.0],
+                method="DOP853",
+                rtol=ODE_TOLERANCE,
+                atol=ODE_TOLERANCE * min(self.a0, self.b0),
+                dense_output=True,
+            )
+        if not solution.success:
+            raise Unavailable(
+                f"the axes of the similarity solution could not be integrated to "
+                f"t={self.t_end:g}: {solution.message}"
+            )
         object.__setattr__(self, "_solution", solution)
 
     def axes(self, t: float) -> tuple[float, float, float, float]:
         """``(a, a', b, b')`` at time ``t`` in ``[0, t_end]``."""
-        if t == 0.0:
+        if t == 0.0 or self._solution is None:
             return self.a0, 0.0, self.b0, 0.0
         a, a_dot, b, b_dot = self._solution.sol(t)  # type: ignore[attr-defined]
         return float(a), float(a_dot), float(b), float(b_dot)
@@ -103,3 +124,30 @@ class EllipticCap:
         a, _, b, _ = self.axes(t)
         x_c, y_c = self.centre(t)
         return x_c, y_c, a, b
+
+    def extent(self) -> tuple[float, float, float, float]:
+        """``(x_low, x_high, y_low, y_high)``: the box that the margin stays in over ``[0,
+        t_end]``.
+
+        The rear ``x_c - a`` is not monotone (the cap spreads back before gravity carries it
+        down): the extremes are taken over the integrator's steps and :data:`EXTENT_SAMPLES`
+        equally spaced times.
+
+        Returns
+        -------
+        tuple of float
+        """
+        if self._solution is None:
+            return self.x0 - self.a0, self.x0 + self.a0, self.y0 - self.b0, self.y0 + self.b0
+        times = np.union1d(
+            self._solution.t,  # type: ignore[attr-defined]
+            np.linspace(0.0, self.t_end, EXTENT_SAMPLES),
+        )
+        a, _, b, _ = self._solution.sol(times)  # type: ignore[attr-defined]
+        x_c = self.x0 + 0.5 * self.slope * times * times
+        return (
+            float(np.min(x_c - a)),
+            float(np.max(x_c + a)),
+            float(self.y0 - np.max(b)),
+            float(self.y0 + np.max(b)),
+        )

@@ -46,7 +46,9 @@ def model_section(model: type[Model]) -> list[str]:
             "|---|---|---|",
         ]
         for field in fields:
-            meaning = field.metadata.get("meaning", NO_MEANING)
+            meaning = model.parameter_meanings.get(
+                field.name, field.metadata.get("meaning", NO_MEANING)
+            )
             lines.append(f"| `{field.name}` | `{field.default!r}` | {meaning} |")
     else:
         lines.append("No parameters.")

@@ -158,27 +158,27 @@ def test_the_mirror_image_across_y_is_exact(reconstructor: str, params: dict[str
 
 @settings(max_examples=25, deadline=None)
 @given(
-    phi=st.floats(0.0, 89.9),
-    share=st.floats(0.0, 1.0),
     zeta=st.floats(-60.0, 60.0),
+    share_delta=st.floats(0.0, 1.0),
+    share_phi=st.floats(0.0, 1.0),
     reconstructor=st.sampled_from(RECONSTRUCTORS),
 )
 def test_a_pile_below_the_coulomb_threshold_stays_exactly_at_rest(
-    phi: float, share: float, zeta: float, reconstructor: str
+    zeta: float, share_delta: float, share_phi: float, reconstructor: str
 ) -> None:
     """A cap at rest on a plane whose driving force (gravity along the bed and the active
     earth pressure of its slopes) is below half the Coulomb threshold keeps every momentum
-    exactly 0 and every depth bit for bit, over 200 steps."""
-    delta = max(phi * share, abs(zeta) + 5.0)
-    phi = max(phi, delta)
-    if delta >= 89.0:
-        return
+    exactly 0 and every depth bit for bit, over 200 steps: any inclination in [-60, 60]
+    degrees, any ``delta`` with ``tan delta > 2 |tan zeta|`` up to 89 degrees, any ``phi`` in
+    ``[delta, 89.9]``."""
+    lowest = math.degrees(math.atan(2.0 * abs(math.tan(math.radians(zeta))))) + 1.0
+    delta = lowest + share_delta * (89.0 - lowest)
+    phi = delta + share_phi * (89.9 - delta)
     model = SavageHutter2D(phi=phi, delta=delta, zeta=zeta, epsilon=1.0)
     # The largest depth gradient of the cap is 2 height / radius = 10 per unit length: the
     # aspect ratio keeps eps K |grad h| + |tan zeta| below tan(delta) / 2 with the active K.
     slack = 0.5 * math.tan(math.radians(delta)) - abs(math.tan(math.radians(zeta)))
-    if slack <= 0.0:
-        return
+    assert slack > 0.0
     epsilon = slack / (10.0 * max(model.k_active, model.k_y_active) * 1.5)
     model = SavageHutter2D(phi=phi, delta=delta, zeta=zeta, epsilon=epsilon)
     grid = Grid2D.from_bounds(0.0, 1.0, 20, -0.5, 0.5, 20)
@@ -249,6 +249,8 @@ def test_friction_stops_a_layer_exactly_and_never_reverses_it(
         np.testing.assert_allclose(size, expected, rtol=1e-12, atol=1e-12)
         moving = size > 0.0
         assert np.all(q[1][moving] * u >= 0.0) and np.all(q[2][moving] * v >= 0.0)
+        # The direction is kept: (q_x, q_y) stays parallel to (u, v).
+        np.testing.assert_allclose(q[2] * u - q[1] * v, 0.0, rtol=0, atol=1e-12 * speed * speed)
     np.testing.assert_array_equal(q[1:], 0.0)
 
 
@@ -362,3 +364,67 @@ def test_frictionless_isotropic_flow_on_a_flat_bed_is_shallow_water(
     end_water, _, steps_water = flood.advance(q, 0.0, t_end)
     assert steps_granular == steps_water
     np.testing.assert_array_equal(end_granular, end_water)
+
+
+def test_models_the_2d_scheme_cannot_serve_are_refused() -> None:
+    """A 2D model with coefficients but no layout the scheme knows, or with a resistance but
+    no y momentum, is one clear error naming what is missing, not a silently different
+    scheme."""
+
+    class Unlaid(SavageHutter2D):
+        aux_layout_2d = ""
+
+    class NoCrossMomentum(SavageHutter2D):
+        momentum_y_index = None
+
+    grid = Grid2D.from_bounds(0.0, 1.0, 8, 0.0, 1.0, 8)
+    mc = registry.reconstructors.get("mc")
+    with pytest.raises(ConfigError, match="aux_layout_2d = ''"):
+        JiangTadmorReference(Unlaid(phi=35.0, delta=25.0), mc, grid, WALLS)
+    with pytest.raises(ConfigError, match="resistance but not both momenta"):
+        JiangTadmorReference(NoCrossMomentum(phi=35.0, delta=25.0), mc, grid, WALLS)
+
+
+def test_a_source_without_coefficients_is_applied() -> None:
+    """A 2D model with a source and no coefficients gets its source at the quarter points: a
+    uniform periodic Burgers field with the source ``-u`` decays by ``dt`` per step to first
+    order in ``dt``."""
+    from conslaw_models.burgers_2d import Burgers2D
+
+    class Decaying(Burgers2D):
+        def capabilities(self) -> dict[str, bool]:
+            return {**super().capabilities(), "source": True}
+
+        def source(self, q: np.ndarray, aux: np.ndarray | None = None) -> np.ndarray:
+            return -np.asarray(q, dtype=np.float64)
+
+    grid = Grid2D.from_bounds(0.0, 1.0, 6, 0.0, 1.0, 6)
+    jt = JiangTadmorReference(Decaying(), registry.reconstructors.get("mc"), grid, PERIODIC)
+    dt = 1e-3
+    end = jt.step(np.ones((1, 6, 6)), False, dt)
+    np.testing.assert_allclose(end, 1.0 - dt, rtol=0, atol=dt * dt)
+
+
+def test_a_cap_narrower_than_a_cell_is_refused() -> None:
+    """A cap the cells cannot hold (a radius below the cell width) is refused with the key
+    and the widths, rather than losing its volume between the Gauss points."""
+    with pytest.raises(ConfigError, match=r"initial.radii: \[0.01, 1\] is narrower than a cell"):
+        conslaw.run_2d(
+            "sh2d-similarity", n_cells=[8, 8], output_times=[], initial__radii=[0.01, 1.0]
+        )
+
+
+def test_the_exact_margin_is_checked_over_the_whole_run() -> None:
+    """The rear of the cap spreads upslope before gravity carries it down: the exact solution
+    is refused when the margin leaves the domain at any time, not only at the end."""
+    from conslaw.exact import Unavailable
+    from conslaw_models.savage_hutter_2d_exact import EllipticCap
+
+    cap = EllipticCap(2.0, 0.0, 0.5, 0.5, 1.0, 0.2, 0.2, 0.5, 4.0)
+    x_low, x_high, _, _ = cap.extent()
+    x_c, _, a, _ = cap.margin(4.0)
+    # The rear went back to x = 1.44 and ended at 3.42.
+    assert x_low < min(x_c - a, 1.5) - 1e-2
+    assert x_high == pytest.approx(x_c + a, rel=1e-12)
+    with pytest.raises(Unavailable, match="could not be integrated"):
+        EllipticCap(0.0, 0.0, 1e-300, 1.0, 1.0, 1.0, 1.0, 0.5, 1.0)

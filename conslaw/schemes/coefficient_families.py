@@ -18,8 +18,26 @@ GHOST_RULES = ("wrap", "mirror", "copy")
 
 
 def padded_positions(grid: Grid, offset: float, periodic: bool, ghosts: int) -> Array:
-    """Centres of the family with ``offset`` (0 primary, 0.5 staggered) and ``ghosts`` ghost
-    cells on each side, continuing the grid's spacing."""
+    """Centres of the family with ``offset`` and ``ghosts`` ghost cells on each side,
+    continuing the grid's spacing: ``x_min + dx (i - ghosts + 1/2)`` for the primary family,
+    ``x_min + dx (i - ghosts)`` for the staggered one (Tai et al. 2001, Fig. 1).
+
+    Parameters
+    ----------
+    grid : Grid
+        The grid along x.
+    offset : float
+        0 for the primary family, 0.5 for the staggered one.
+    periodic : bool
+        Whether the grid is periodic (the staggered family then has as many cells).
+    ghosts : int
+        Ghost cells on each side.
+
+    Returns
+    -------
+    numpy.ndarray
+        The ``n + 2 ghosts`` centres.
+    """
     shift = 0.5 if offset == 0.0 else 0.0
     n = grid.n_cells_at(offset, periodic)
     index = np.arange(n + 2 * ghosts, dtype=np.float64)

@@ -28,15 +28,33 @@ Array = NDArray[np.float64]
 
 
 def corners(array: Array) -> tuple[Array, Array, Array, Array]:
-    """The lower-left, lower-right, upper-left and upper-right source cells of every new cell
-    (last two axes of ``array``: rows and columns of the source cells)."""
+    """The lower-left, lower-right, upper-left and upper-right source cells of every new cell.
+
+    Parameters
+    ----------
+    array : numpy.ndarray
+        ``(..., rows, columns)`` values of the source cells.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        Four views ``(..., rows - 1, columns - 1)``.
+    """
     return array[..., :-1, :-1], array[..., :-1, 1:], array[..., 1:, :-1], array[..., 1:, 1:]
 
 
 def resist(momentum_x: Array, momentum_y: Array, impulse: Array) -> None:
     """Coulomb's stopping rule in place: ``m = 0`` where ``|m| <= impulse``, else ``m - impulse
     m / |m|``: friction never reverses the momentum (docs/equations.md; the 1D scheme's rule
-    along x)."""
+    along x).
+
+    Parameters
+    ----------
+    momentum_x, momentum_y : numpy.ndarray
+        The momentum components, changed in place.
+    impulse : numpy.ndarray
+        The friction's impulse over the step, ``>= 0``, of the same shape.
+    """
     size = np.hypot(momentum_x, momentum_y)
     stopped = size <= impulse
     safe = np.where(stopped, 1.0, size)
@@ -89,7 +107,7 @@ def add_quarter_terms(
     aux = [right[..., :-1, :-1], left[..., :-1, 1:], right[..., 1:, :-1], left[..., 1:, 1:]]
     shape = new.shape
     flat = [
-        (q.reshape(shape[0], -1), a.reshape(a.shape[0], -1))
+        (q.reshape(shape[0], -1), a.reshape(a.shape[0], q[0].size))
         for q, a in zip(quarters, aux, strict=True)
     ]
     s = [model.source(q, a).reshape(shape) for q, a in flat]

@@ -59,6 +59,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from numpy.typing import NDArray
 
+from conslaw.boundary import builtin_boundary_conditions
 from conslaw.errors import ConfigError, SchemeBreakdownError
 from conslaw.grid2d import Grid2D
 from conslaw.model import Model
@@ -181,6 +182,28 @@ def inflow_states(
     return states
 
 
+def _coefficient_layout_error(model: Model) -> str:
+    """What the 2D scheme cannot serve in how ``model`` lays out its coefficients and terms
+    (``Model.aux_layout_2d``), as the end of a sentence naming it, or ``""``."""
+    uses = model.capabilities()
+    if uses["resistance"] and (model.momentum_index is None or model.momentum_y_index is None):
+        return "has a resistance but not both momenta (momentum_index, momentum_y_index)"
+    if model.n_aux == 0:
+        return ""
+    if model.aux_layout_2d == "bed":
+        if model.surface_aux is None or model.surface_aux_y is None:
+            return "lays out a bed but names no bed rows (surface_aux, surface_aux_y)"
+        if uses["source"] and not uses["balanced_source"]:
+            return "has a bed and a source that is not the well-balanced one (balanced_source)"
+        return ""
+    if model.aux_layout_2d == "along-x":
+        return ""
+    return (
+        f"has coefficients but aux_layout_2d = {model.aux_layout_2d!r}: it must be 'bed' or "
+        "'along-x'"
+    )
+
+
 class JiangTadmorReference:
     """The Jiang–Tadmor step for a two-dimensional model (``Model.n_dims == 2``).
 
@@ -225,6 +248,9 @@ class JiangTadmorReference:
                 f"jiang-tadmor (reference): '{model.name}' needs {', '.join(unsupported)} "
                 "(the 2D forms: coefficients_2d_point, corner_coefficients_point)"
             )
+        layout_error = _coefficient_layout_error(model)
+        if layout_error:
+            raise ConfigError(f"jiang-tadmor (reference): '{model.name}' {layout_error}")
         if set(boundaries) != set(SIDES):
             raise ConfigError(f"boundaries: need {', '.join(SIDES)}, got {sorted(boundaries)}")
         for side, kind in boundaries.items():
@@ -259,8 +285,10 @@ class JiangTadmorReference:
         model = self.model
         rows, columns = self.family_shape(staggered)
         if model.n_aux == 0:
-            return np.zeros((0, rows + 2 * GHOSTS, columns + 2 * GHOSTS))
-        if model.surface_aux_y is None:
+            empty = np.zeros((0, rows + 2 * GHOSTS, columns + 2 * GHOSTS))
+            self._quarters[staggered] = (empty, empty)
+            return empty
+        if model.aux_layout_2d == "along-x":
             return self._along_x_aux(staggered)
         quarters = quarter_averages(model, self.grid, self.boundaries)
         periodic = (self.periodic_x, self.periodic_y)
@@ -281,11 +309,11 @@ class JiangTadmorReference:
         the rule of their side), the same in every row. Keeps those at the quarter points in
         ``self._quarters[staggered]``."""
         rows = self.family_shape(staggered)[0] + 2 * GHOSTS
-        rule = {"periodic": "wrap", "wall": "mirror"}
-        rules = (
-            rule.get(self.boundaries["left"], "copy"),
-            rule.get(self.boundaries["right"], "copy"),
-        )
+        rule = {
+            condition.name: condition.ghost_coefficients
+            for condition in builtin_boundary_conditions()
+        }
+        rules = (rule[self.boundaries["left"]], rule[self.boundaries["right"]])
         offset = 0.5 if staggered else 0.0
         family = coefficient_family(self.model, self.grid.x, offset, self.periodic_x, rules, GHOSTS)
         centre, left, right = (
@@ -700,7 +728,7 @@ class JiangTadmorReference:
             new[d] = np.where(emptied, 0.0, new[d])
         if self.uses["balanced_source"]:
             new += dt * self._balanced_sources(predicted, aux)
-        elif self.uses["source"] and self._quarters:
+        elif self.uses["source"]:
             left, right = self._quarters[staggered]
             quarter_aux = (left[:, rows, columns], right[:, rows, columns])
             parts = (predicted, slopes_x, slopes_y)
@@ -875,19 +903,31 @@ class JiangTadmorReference:
         end = self.step(middle, True, dt)
         if depth is not None and np.min(end[depth]) < 0.0:
             return None, 0.5 * dt
-        return (q.copy() if self.held_at_rest(q, end) else end), dt
+        return (q.copy() if self.held_at_rest(q, middle, end) else end), dt
 
-    def held_at_rest(self, start: Array, end: Array) -> bool:
-        """Whether a step pair from ``start`` to ``end`` (primary values) left everything at
-        rest: a model with a resistance (Coulomb friction), every momentum exactly 0 at both
-        ends. Nothing has moved then (``h_t = -div(h u) = 0``), and the pair's end is its start,
-        bit for bit: the staggered averaging would otherwise smear a pile at rest (the 1D rule,
-        docs/design.md, "Savage–Hutter specifics")."""
+    def held_at_rest(self, start: Array, middle: Array, end: Array) -> bool:
+        """Whether a step pair from ``start`` through ``middle`` (staggered values) to ``end``
+        (primary values) left everything at rest.
+
+        A model with a resistance (Coulomb friction) whose every momentum is exactly 0 at all
+        three: nothing has moved (``h_t = -div(h u) = 0`` in both steps), and the pair's end
+        is its start, bit for bit; the staggered averaging would otherwise smear a pile at rest
+        (the 1D rule, docs/design.md, "Savage–Hutter specifics").
+
+        Parameters
+        ----------
+        start, middle, end : numpy.ndarray
+            ``(n_vars, rows, columns)`` values of the pair's start, middle and end.
+
+        Returns
+        -------
+        bool
+        """
         model = self.model
         if not self.uses["resistance"]:
             return False
         rows = [m for m in (model.momentum_index, model.momentum_y_index) if m is not None]
-        return bool(np.all(start[rows] == 0.0) and np.all(end[rows] == 0.0))
+        return all(bool(np.all(values[rows] == 0.0)) for values in (start, middle, end))
 
     def advance(self, q: Array, t: float, t_end: float) -> tuple[Array, float, int]:
         """Advance primary-family values ``q`` from ``t`` to exactly ``t_end`` by step pairs of

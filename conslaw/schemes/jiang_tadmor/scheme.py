@@ -446,7 +446,9 @@ class JiangTadmor:
         self._check_finite(2, 2, 2.0 * dt)
         if self._negative_depth(end):
             return False, 0.5 * dt
-        if not self.compiled and self.reference.held_at_rest(self.states[0], self.states[2]):
+        if not self.compiled and self.reference.held_at_rest(
+            self.states[0], self.states[1], self.states[2]
+        ):
             self.states[2] = self.states[0].copy()
             self.statistics[2] = self.statistics[0].copy()
         return True, dt
