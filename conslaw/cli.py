@@ -136,8 +136,9 @@ def _command_run(args: argparse.Namespace) -> int:
         from conslaw.output.writer2d import RunWriter2D
         from conslaw.plotting2d import write_figures_2d
         from conslaw.simulation2d import simulate_2d
+        from conslaw.terrain.hazard_maps import hazard_output_files
 
-        writer_2d = RunWriter2D(out, loaded, write_figures_2d)
+        writer_2d = RunWriter2D(out, loaded, write_figures_2d, hazard_output_files)
         try:
             writer_2d.claim()
             return _run_scene(loaded, out, writer_2d, simulate_2d, _print_summary_2d)

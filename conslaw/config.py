@@ -375,10 +375,13 @@ def _check_table(value: Any, key: str, allowed: tuple[str, ...]) -> Mapping[str,
     return value
 
 
-def _resolve_files(parameters: Mapping[str, Any], folder: Path | None) -> dict[str, Any]:
+def resolve_files(
+    parameters: Mapping[str, Any], folder: Path | None, table: str = "parameters"
+) -> dict[str, Any]:
     """Parameters whose name ends in ``_file`` are paths. A relative one is looked up first next
     to the scene file (so a scene and its tables travel together), and otherwise taken relative
-    to the current folder (as for a ``--set`` on the command line)."""
+    to the current folder (as for a ``--set`` on the command line). ``table`` names the scene's
+    table in messages (``parameters``, ``initial``)."""
     resolved = dict(parameters)
     for key, value in parameters.items():
         if not key.endswith("_file") or not isinstance(value, str) or not value:
@@ -387,7 +390,7 @@ def _resolve_files(parameters: Mapping[str, Any], folder: Path | None) -> dict[s
             path = Path(value).expanduser()
         except RuntimeError:  # ~user of an unknown user
             raise ConfigError(
-                f"parameters.{key}: cannot expand '{value}' (no such user's home folder)"
+                f"{table}.{key}: cannot expand '{value}' (no such user's home folder)"
             ) from None
         if not path.is_absolute() and folder is not None and (folder / path).exists():
             resolved[key] = str((folder / path).resolve())
@@ -559,7 +562,7 @@ def validate(
     parameters = table["parameters"]
     if not isinstance(parameters, Mapping):
         raise ConfigError(f"scene key 'parameters': expected a table, got {parameters!r}")
-    parameters = _resolve_files(parameters, folder)
+    parameters = resolve_files(parameters, folder)
     cfl, n_cells, x_min, x_max, t_end, times = _domain(table)
     scheme, front_tracking = _scheme_with_front_tracking(raw, table, scheme)
     if not isinstance(table["exact"], bool):

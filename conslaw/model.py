@@ -177,8 +177,13 @@ class Model(ABC):
     #: How a 2D model's coefficients vary over the plane: ``"bed"`` (a bed from
     #: ``quarter_bed``, with :attr:`surface_aux` and :attr:`surface_aux_y`) or ``"along-x"``
     #: (:meth:`aux` of the arc length, the same in every row: a chute); ``""`` without
-    #: coefficients. The 2D scheme refuses a model with coefficients and neither.
+    #: coefficients; ``"field"`` (:meth:`aux_2d` at any map points: a terrain). The 2D scheme
+    #: refuses a model with coefficients and none of these.
     aux_layout_2d: ClassVar[str] = ""
+    #: A 2D model's rows of ``aux`` holding a surface gradient ``(b_x, b_y)``: its resistance
+    #: then acts on the tangential momentum, of length ``(|m|^2 + (grad b . m)^2)^(1/2)`` for
+    #: the map momentum ``m`` (:mod:`conslaw_models.savage_hutter_terrain`); None: ``|m|``.
+    tangent_slope_rows: ClassVar[tuple[int, int] | None] = None
     #: Sign of every coefficient row in the mirror image across a y wall; None: all +1.
     aux_reflect_signs_y: ClassVar[tuple[float, ...] | None] = None
     #: Optional ``coefficients_2d_point(q, slope_x, slope_y, aux, params)``: a 2D model's
@@ -240,6 +245,31 @@ class Model(ABC):
         domain ``[x_min, x_max]``. The default has nothing to check."""
         return None
 
+    def check_domain_2d(self, grid: Grid2D) -> None:
+        """Raise ConfigError if a 2D model's own data (a chute table, a terrain) do not cover
+        the rectangle of ``grid``. The default checks the x range by :meth:`check_domain`.
+
+        Parameters
+        ----------
+        grid : Grid2D
+        """
+        self.check_domain(grid.x.x_min, grid.x.x_max)
+
+    def scene_dem(self, grid: Grid2D) -> Any:
+        """A 2D model's terrain on the cells of ``grid`` as an elevation model with its
+        georeference, for hazard maps (:mod:`conslaw.output.hazard`); None without a terrain
+        (the default).
+
+        Parameters
+        ----------
+        grid : Grid2D
+
+        Returns
+        -------
+        conslaw.terrain.dem.DigitalElevationModel or None
+        """
+        return None
+
     def param_vector(self) -> Array:
         """The parameters packed as float64, in the field order of :attr:`Parameters`."""
         values = [float(getattr(self.params, f.name)) for f in dataclasses.fields(self.Parameters)]
@@ -252,6 +282,47 @@ class Model(ABC):
         dx/2) at the quarter points, so coefficients may be exact cell averages.
         """
         return np.zeros((self.n_aux, np.asarray(x).shape[0]), dtype=np.float64)
+
+    def aux_2d(self, x: Array, y: Array) -> Array:
+        """Static coefficients at the map points ``(x, y)`` (broadcast), ``(n_aux, *shape)``,
+        of a 2D model whose :attr:`aux_layout_2d` is ``"field"``.
+
+        Parameters
+        ----------
+        x, y : numpy.ndarray
+
+        Returns
+        -------
+        numpy.ndarray
+        """
+        shape = np.broadcast_shapes(np.shape(x), np.shape(y))
+        return np.zeros((self.n_aux, *shape), dtype=np.float64)
+
+    def flow_depth_and_speed(self, q: Array, aux: Array | None) -> tuple[Array, Array] | None:
+        """The flow depth and speed of 2D cell values ``q`` ``(n_vars, ny, nx)`` for hazard maps
+        (:mod:`conslaw.peak_fields`), or None for a model without a depth. The default: the
+        depth row, and the length of the velocity (0 where the depth is below
+        :meth:`dry_depth`).
+
+        Parameters
+        ----------
+        q : numpy.ndarray
+        aux : numpy.ndarray or None
+            The coefficients at the same cells (``aux_2d``), for a model that needs them.
+
+        Returns
+        -------
+        tuple of numpy.ndarray or None
+        """
+        d = self.depth_index
+        if d is None:
+            return None
+        depth = np.asarray(q[d], dtype=np.float64)
+        wet = (depth >= self.dry_depth()) & (depth > 0.0)
+        safe = np.where(wet, depth, 1.0)
+        rows = [m for m in (self.momentum_index, self.momentum_y_index) if m is not None]
+        size = np.sqrt(sum(np.asarray(q[m], dtype=np.float64) ** 2 for m in rows))
+        return depth, np.where(wet, size / safe, 0.0)
 
     def uniform_aux(self) -> bool:
         """Whether :meth:`aux` gives the same coefficients at every position and width, so that

@@ -14,7 +14,10 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from conslaw.io import write_figure
+from conslaw.peak_fields import REACHED_DEPTH
 from conslaw.plotting import MAX_PROFILES, axis_label, time_colours
+from conslaw.terrain.hazard_figure import hazard_map_figure
+from conslaw.terrain.hazard_maps import hazard_maps
 
 if TYPE_CHECKING:
     from conslaw.result2d import RunResult2D
@@ -88,9 +91,32 @@ def cuts_figure(result: RunResult2D) -> Figure:
 
 
 def write_figures_2d(result: RunResult2D, folder: Path) -> list[Path]:
-    """Write ``map.png`` and ``cuts.png`` into ``folder`` (atomically); returns their paths."""
+    """Write ``map.png`` and ``cuts.png`` into ``folder`` (atomically), and for a run on
+    terrain the hazard maps ``peak_depth.png``, ``peak_speed.png``, ``peak_pressure.png`` and
+    ``deposit.png`` over a hillshade with the release outline
+    (:func:`conslaw.terrain.hazard_figure.hazard_map_figure`); returns their paths."""
     folder = Path(folder)
-    return [
+    paths = [
         write_figure(folder / "map.png", map_figure(result)),
         write_figure(folder / "cuts.png", cuts_figure(result)),
     ]
+    maps = hazard_maps(result)
+    if maps is not None:
+        # Drawn where the flow reached (the run-out's depth threshold); the GeoTIFFs hold all.
+        reached = maps.fields[0].values >= REACHED_DEPTH
+        for field in maps.fields:
+            shown = field.values >= REACHED_DEPTH if field.stem == "deposit" else reached
+            figure = hazard_map_figure(
+                maps.dem,
+                np.where(shown, field.values, 0.0),
+                label=f"{field.name} ({field.units})",
+                release_mask=maps.released,
+                threshold=0.0,
+            )
+            where = "is" if field.stem == "deposit" else "was"
+            figure.axes[0].set_title(
+                f"{result.scene.name}: where the flow {where} at least {REACHED_DEPTH:g} m deep",
+                fontsize="medium",
+            )
+            paths.append(write_figure(folder / f"{field.stem}.png", figure))
+    return paths

@@ -16,6 +16,7 @@ if TYPE_CHECKING:
     from conslaw.exact2d import ExactSolution2D
     from conslaw.grid2d import Grid2D
     from conslaw.model import Model
+    from conslaw.peak_fields import PeakFields
     from conslaw.scene2d import Scene2D
 
 Array = NDArray[np.float64]
@@ -44,6 +45,9 @@ class RunResult2D:
         Error norms of variable 0 against the exact cell averages at the same times
         (docs/equations.md, "Error norms", with the mean over cells in place of the sum times
         ``dx``).
+    peaks : PeakFields or None
+        The largest flow depth and speed of every cell over the run, updated after every step
+        pair (None for a model without a depth; :mod:`conslaw.peak_fields`).
     steps : int
         Time steps taken.
     solve_seconds, compile_seconds : float
@@ -59,6 +63,7 @@ class RunResult2D:
     errors: list[ErrorNorms | None] = field(default_factory=list)
     exact_solution: ExactSolution2D | None = None
     exact_note: str | None = None
+    peaks: PeakFields | None = None
     steps: int = 0
     solve_seconds: float = 0.0
     compile_seconds: float = 0.0

@@ -29,11 +29,13 @@ from conslaw.config import (
     is_two_dimensional,
     load_scene,
     read_scene_file,
+    resolve_files,
     scene_model,
     scene_path,
 )
 from conslaw.errors import ConfigError, finite_number, unknown_name_message
 from conslaw.grid import MAX_CELLS
+from conslaw.grid2d import Grid2D
 from conslaw.initial2d import InitialCondition2D
 
 if TYPE_CHECKING:
@@ -41,7 +43,7 @@ if TYPE_CHECKING:
 
 SIDES_2D = ("left", "right", "bottom", "top")
 #: File formats of a 2D run (``output.formats``; docs/output.md).
-OUTPUT_FORMATS_2D = ("npz", "xdmf")
+OUTPUT_FORMATS_2D = ("npz", "xdmf", "geotiff")
 
 #: Every top-level key of a 2D scene with its default (REQUIRED: the scene must give it).
 DEFAULTS_2D: dict[str, Any] = {
@@ -297,10 +299,17 @@ def _scheme_options(value: Any, scheme_class: Any) -> dict[str, Any]:
     return dict(options)
 
 
-def validate_2d(name: str, raw: Mapping[str, Any], model_object: Model | None = None) -> Scene2D:
+def validate_2d(
+    name: str,
+    raw: Mapping[str, Any],
+    model_object: Model | None = None,
+    folder: Path | None = None,
+) -> Scene2D:
     """Validate a raw 2D scene mapping (after overrides) into a :class:`Scene2D`; a
     ConfigError naming the key otherwise. ``model_object``: the model of the mapping's model
-    and parameters if the caller has one (it is not built a second time)."""
+    and parameters if the caller has one (it is not built a second time). ``folder``: where
+    the scene file lives (relative ``*_file`` parameters and initial options are looked up
+    there first, :func:`~conslaw.config.resolve_files`)."""
     table = _filled(raw)
     model = _name(table["model"], "model", registry.models)
     model_class = registry.models.get(model)
@@ -330,11 +339,21 @@ def validate_2d(name: str, raw: Mapping[str, Any], model_object: Model | None = 
         raise ConfigError(f"scene key 'max_steps': expected 1 to {MAX_STEPS}, got {max_steps}")
     boundaries, inflow = _boundaries(table["boundary"], scheme_class.boundary_kinds)
     scheme_options = _scheme_options(table["scheme_options"], scheme_class)
-    parameters = dict(parameters)
+    parameters = resolve_files(parameters, folder)
     if model_object is None or model_object.name != model:
         model_object = model_class(**parameters)  # validates its own parameters
-    initial = InitialCondition2D.from_table(table["initial"], model_class)
+    grid = Grid2D.from_bounds(x_min, x_max, nx, y_min, y_max, ny)
+    model_object.check_domain_2d(grid)
+    initial_table = table["initial"]
+    if isinstance(initial_table, Mapping):
+        initial_table = resolve_files(initial_table, folder, "initial")
+    initial = InitialCondition2D.from_table(initial_table, model_class)
     formats, plot = _output(table["output"])
+    if "geotiff" in formats and model_object.scene_dem(grid) is None:
+        raise ConfigError(
+            f"output.formats: 'geotiff' writes the hazard maps of a model on terrain; "
+            f"'{model}' has none"
+        )
     return Scene2D(
         name=name, description=table["description"], model=model, parameters=parameters,
         scheme=scheme, reconstructor=reconstructor, cfl=cfl, nx=nx, ny=ny, x_min=x_min,
@@ -357,7 +376,7 @@ def load_scene_2d(name_or_path: str | Path, overrides: Mapping[str, Any] | None 
         )
     if overrides and "description" not in overrides:
         table["description"] = described_with(str(raw.get("description", "")), overrides)
-    return dataclasses.replace(validate_2d(name, table), source_file=str(path))
+    return dataclasses.replace(validate_2d(name, table, folder=path.parent), source_file=str(path))
 
 
 def load_any_scene(

@@ -20,6 +20,7 @@ from conslaw.exact2d import ExactSolution2D
 from conslaw.grid2d import Grid2D
 from conslaw.memory import available_bytes, run_bytes
 from conslaw.model import Model
+from conslaw.peak_fields import PeakFields
 from conslaw.result2d import RunResult2D, State2D
 from conslaw.scene2d import Scene2D
 
@@ -118,6 +119,8 @@ def simulate_2d(
     model, grid, scheme, q = build_2d(scene)
     exact, note = exact_solution_2d(scene, model, grid)
     result = RunResult2D(scene, model, grid, State2D(0.0, q), exact_solution=exact, exact_note=note)
+    result.peaks = PeakFields.start(model, grid, q)
+    observe = None if result.peaks is None else result.peaks.update
     reached = [0.0, 0]
     last_output: float | None = None
 
@@ -146,7 +149,7 @@ def simulate_2d(
             if t_out > t:
                 started = time.perf_counter()
                 try:
-                    q, t, steps = scheme.advance(q, t, t_out, report)
+                    q, t, steps = scheme.advance(q, t, t_out, report, observe)
                 except SchemeBreakdownError as error:
                     error.completed_states = list(result.states)
                     raise
@@ -211,9 +214,10 @@ def run_2d(
     from conslaw.output.files import check_output_dir
     from conslaw.output.writer2d import RunWriter2D
     from conslaw.plotting2d import write_figures_2d
+    from conslaw.terrain.hazard_maps import hazard_output_files
 
     check_output_dir(Path(out))
-    writer = RunWriter2D(Path(out), resolved, write_figures_2d)
+    writer = RunWriter2D(Path(out), resolved, write_figures_2d, hazard_output_files)
     try:
         writer.claim()
         result = simulate_2d(resolved, progress, writer)

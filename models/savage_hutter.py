@@ -133,6 +133,34 @@ def earth_pressure(stretching, params):
     return params[K_PASSIVE] if stretching < 0.0 else params[K_ACTIVE]
 
 
+#: A velocity change within this many units of round-off of the values it is taken from
+#: counts as none: the material neither extends nor contracts, and takes the active coefficient
+#: (:func:`earth_pressure`) rather than the one the sign of its rounding error would pick
+#: (docs/design.md, "Earth pressure").
+SWITCH_ROUND_OFF = 16.0 * 2.220446049250313e-16
+
+
+@njit(cache=True)
+def beyond_round_off(change, scale):
+    """``change``, or 0 where ``|change| <= SWITCH_ROUND_OFF |scale|`` (``scale`` the size of
+    the values ``change`` is the difference of)."""
+    return change if abs(change) > SWITCH_ROUND_OFF * abs(scale) else 0.0
+
+
+@njit(cache=True)
+def velocity_change(low, high, row, dry):
+    """``high[row]/high[0] - low[row]/low[0]``, the velocity change from state ``low`` to state
+    ``high``: 0 if either is dry (the pressure ``~ h^2`` vanishes there) or if it is round-off of
+    the two velocities (:func:`beyond_round_off`)."""
+    if low[0] >= dry and low[0] > 0.0 and high[0] >= dry and high[0] > 0.0:
+        low_velocity = low[row] / low[0]
+        high_velocity = high[row] / high[0]
+        return beyond_round_off(
+            high_velocity - low_velocity, abs(low_velocity) + abs(high_velocity)
+        )
+    return 0.0
+
+
 @njit(cache=True)
 def coefficients_point(q, slope, aux, params):
     """Earth-pressure coefficient of a cell for its predictor, by :func:`earth_pressure` from
@@ -141,7 +169,7 @@ def coefficients_point(q, slope, aux, params):
     h = q[0]
     stretching = 0.0
     if h >= params[DRY] and h > 0.0:
-        stretching = slope[1] - (q[1] / h) * slope[0]
+        stretching = beyond_round_off(slope[1] - (q[1] / h) * slope[0], q[1])
     aux[K] = earth_pressure(stretching, params)
 
 
@@ -155,11 +183,7 @@ def interface_coefficients_point(left, right, aux_left, aux_right, params):
     ``d(beta h^2/2)/dx`` wherever ``K`` is uniform (shocks), without the spurious force
     ``(h^2/2) dK/dx`` that a ``K`` chosen per cell exerts where it switches between neighbours
     (docs/design.md, "Earth pressure")."""
-    dry = params[DRY]
-    stretching = 0.0
-    if left[0] >= dry and left[0] > 0.0 and right[0] >= dry and right[0] > 0.0:
-        stretching = right[1] / right[0] - left[1] / left[0]
-    k = earth_pressure(stretching, params)
+    k = earth_pressure(velocity_change(left, right, 1, params[DRY]), params)
     aux_left[K] = k
     aux_right[K] = k
 
@@ -237,20 +261,7 @@ class SavageHutterParameters:
             finite_number(getattr(self, name), f"parameters.{name}")
         if not self.epsilon > 0:
             raise ConfigError(f"parameters.epsilon: must be > 0, got {self.epsilon}")
-        if not 0 <= self.phi < 90:
-            raise ConfigError(f"parameters.phi: must be in [0, 90) degrees, got {self.phi}")
-        if not 0 <= self.delta < 90:
-            raise ConfigError(f"parameters.delta: must be in [0, 90) degrees, got {self.delta}")
-        if self.delta > self.phi:
-            raise ConfigError(
-                f"parameters.delta: bed friction angle delta={self.delta} must be <= internal "
-                f"friction angle phi={self.phi} (K_act/pass are not real otherwise)"
-            )
-        if self.earth_pressure not in EARTH_PRESSURE:
-            raise ConfigError(
-                f"parameters.earth_pressure: unknown '{self.earth_pressure}'; allowed: "
-                f"{', '.join(EARTH_PRESSURE)}"
-            )
+        check_friction(self.phi, self.delta, self.earth_pressure)
         if self.chute not in CHUTE_KINDS:
             raise ConfigError(
                 f"parameters.chute: unknown '{self.chute}'; allowed: {', '.join(CHUTE_KINDS)}"
@@ -267,6 +278,56 @@ class SavageHutterParameters:
             raise ConfigError(
                 f"parameters.dry_tolerance: must be in [0, 1e-3), got {self.dry_tolerance}"
             )
+
+
+def check_friction(phi: float, delta: float, earth_pressure: str) -> None:
+    """The friction angles and the earth-pressure rule of every Savage–Hutter model: ``0 <=
+    delta <= phi < 90`` degrees (``K_act`` and ``K_pass`` of eq. 6 are real only then), and a
+    rule of :data:`EARTH_PRESSURE`.
+
+    Parameters
+    ----------
+    phi, delta : float
+        Finite angles in degrees.
+    earth_pressure : str
+
+    Raises
+    ------
+    ConfigError
+        Naming ``parameters.phi``, ``parameters.delta`` or ``parameters.earth_pressure``.
+    """
+    if not 0 <= phi < 90:
+        raise ConfigError(f"parameters.phi: must be in [0, 90) degrees, got {phi}")
+    if not 0 <= delta < 90:
+        raise ConfigError(f"parameters.delta: must be in [0, 90) degrees, got {delta}")
+    if delta > phi:
+        raise ConfigError(
+            f"parameters.delta: bed friction angle delta={delta} must be <= internal "
+            f"friction angle phi={phi} (K_act/pass are not real otherwise)"
+        )
+    if earth_pressure not in EARTH_PRESSURE:
+        raise ConfigError(
+            f"parameters.earth_pressure: unknown '{earth_pressure}'; allowed: "
+            f"{', '.join(EARTH_PRESSURE)}"
+        )
+
+
+def active_and_passive(phi: float, delta: float, earth_pressure: str) -> tuple[float, float]:
+    """``(K_act, K_pass)`` of eq. 6 for angles in degrees (:func:`earth_pressure_coefficients`),
+    both 1 for ``earth_pressure = "isotropic"``.
+
+    Parameters
+    ----------
+    phi, delta : float
+    earth_pressure : str
+
+    Returns
+    -------
+    tuple of float
+    """
+    if earth_pressure == "isotropic":
+        return 1.0, 1.0
+    return earth_pressure_coefficients(math.radians(phi), math.radians(delta))
 
 
 def chute_and_pressures(p: SavageHutterParameters) -> tuple[Chute, float, float]:
@@ -286,10 +347,7 @@ def chute_and_pressures(p: SavageHutterParameters) -> tuple[Chute, float, float]
     chute = make_chute(
         p.chute, p.zeta, p.transition_start, p.transition_end, p.zeta_end, p.chute_file
     )
-    if p.earth_pressure == "isotropic":
-        return chute, 1.0, 1.0
-    k_active, k_passive = earth_pressure_coefficients(math.radians(p.phi), math.radians(p.delta))
-    return chute, k_active, k_passive
+    return chute, *active_and_passive(p.phi, p.delta, p.earth_pressure)
 
 
 def check_chute_covers(chute: Chute, p: SavageHutterParameters, x_min: float, x_max: float) -> None:

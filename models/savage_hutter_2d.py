@@ -48,9 +48,11 @@ from conslaw_models.depth_averaged import (
 )
 from conslaw_models.savage_hutter import (
     SavageHutterParameters,
+    beyond_round_off,
     check_chute_covers,
     chute_and_pressures,
     earth_pressure,
+    velocity_change,
 )
 from conslaw_models.savage_hutter_2d_exact import EllipticCap
 
@@ -155,19 +157,11 @@ def coefficients_2d_point(q, slope_x, slope_y, aux, params):
     along_x = 0.0
     along_y = 0.0
     if h >= params[DRY] and h > 0.0:
-        along_x = slope_x[1] - (q[1] / h) * slope_x[0]
-        along_y = slope_y[2] - (q[2] / h) * slope_y[0]
+        along_x = beyond_round_off(slope_x[1] - (q[1] / h) * slope_x[0], q[1])
+        along_y = beyond_round_off(slope_y[2] - (q[2] / h) * slope_y[0], q[2])
     k_x = earth_pressure(along_x, params)
     aux[KX] = k_x
     aux[KY] = lateral_coefficient(k_x, along_y, params[TAN_DELTA])
-
-
-@njit(cache=True)
-def _change(low, high, row, dry):
-    """``high[row]/high[0] - low[row]/low[0]``, 0 if either is dry."""
-    if low[0] >= dry and low[0] > 0.0 and high[0] >= dry and high[0] > 0.0:
-        return high[row] / high[0] - low[row] / low[0]
-    return 0.0
 
 
 @njit(cache=True)
@@ -178,8 +172,8 @@ def corner_coefficients_point(a, b, c, d, aux, params):
     (a pair with a dry side counts 0). The 1D rule of
     :func:`conslaw_models.savage_hutter.interface_coefficients_point` along each direction."""
     dry = params[DRY]
-    along_x = _change(a, b, 1, dry) + _change(c, d, 1, dry)
-    along_y = _change(a, c, 2, dry) + _change(b, d, 2, dry)
+    along_x = velocity_change(a, b, 1, dry) + velocity_change(c, d, 1, dry)
+    along_y = velocity_change(a, c, 2, dry) + velocity_change(b, d, 2, dry)
     k_x = earth_pressure(along_x, params)
     aux[KX] = k_x
     aux[KY] = lateral_coefficient(k_x, along_y, params[TAN_DELTA])
@@ -206,7 +200,72 @@ def check_cap_resolved(cap: EllipticCap, grid: Grid2D) -> None:
         )
 
 
-class SavageHutter2D(TwoDimensionalRows, DepthAveragedModel):
+class TwoEarthPressures:
+    """``K_x`` and ``K_y`` of a 2D Savage–Hutter model, and what follows from them (a mixin,
+    listed before :class:`~conslaw_models.depth_averaged.DepthAveragedModel`): the packed
+    parameters, the kernel variant and the capabilities. The model calls
+    :meth:`set_earth_pressures` and gives :meth:`pressure_scale`."""
+
+    params: Any
+    k_active: float
+    k_passive: float
+    k_y_active: float
+    k_y_max: float
+
+    def set_earth_pressures(self, k_active: float, k_passive: float) -> None:
+        """``K_act``, ``K_pass`` and from them the active and the largest ``K_y`` (both 1 for
+        ``earth_pressure = "isotropic"``; :func:`lateral_coefficient`)."""
+        self.k_active, self.k_passive = k_active, k_passive
+        tan_delta = math.tan(math.radians(self.params.delta))
+        if self.params.earth_pressure == "isotropic":
+            self.k_y_active = self.k_y_max = 1.0
+        else:
+            self.k_y_active = lateral_coefficient(k_active, 0.0, tan_delta)
+            self.k_y_max = lateral_coefficient(k_passive, -1.0, tan_delta)
+
+    def pressure_scale(self) -> float:
+        """The first packed parameter (``epsilon`` of the chute, ``g`` of the terrain)."""
+        raise NotImplementedError
+
+    def param_vector(self) -> Array:
+        """``(pressure scale, dry_tolerance, K_act, K_pass, tan delta, largest K_y)``."""
+        p = self.params
+        values = [0.0] * 6
+        values[EPSILON] = self.pressure_scale()
+        values[DRY] = p.dry_tolerance
+        values[K_ACTIVE] = self.k_active
+        values[K_PASSIVE] = self.k_passive
+        values[TAN_DELTA] = math.tan(math.radians(p.delta))
+        values[K_Y_MAX] = self.k_y_max
+        return np.array(values)
+
+    def kernel_variant(self) -> str:
+        """Whether the earth-pressure coefficients switch, and whether there is bed friction."""
+        switch = "earth pressure switches" if self._switches() else "one earth pressure"
+        return switch if self.params.delta > 0.0 else f"{switch}, no bed friction"
+
+    def _switches(self) -> bool:
+        """Whether ``K_x`` or ``K_y`` takes more than one value."""
+        return self.k_active != self.k_passive or self.k_y_active != self.k_y_max
+
+    def capabilities(self) -> dict[str, bool]:
+        """The driving source and the correction always; friction if ``delta > 0``; the
+        per-cell and per-staggered-cell coefficients if an earth pressure switches; no rest
+        range of the coefficients (docs/design.md, "Savage–Hutter in two dimensions")."""
+        switches = self._switches()
+        return {
+            "source": True,
+            "balanced_source": False,
+            "surface": False,
+            "correction": True,
+            "resistance": self.params.delta > 0.0,
+            "dynamic_coefficients": switches,
+            "interface_coefficients": switches,
+            "rest_coefficients": False,
+        }
+
+
+class SavageHutter2D(TwoEarthPressures, TwoDimensionalRows, DepthAveragedModel):
     """Savage–Hutter granular avalanche in 2D, ``q = (h, h u, h v)``, on a chute that curves
     along x (the parameters and chutes of the 1D model, :mod:`conslaw_models.savage_hutter`)."""
 
@@ -274,54 +333,16 @@ class SavageHutter2D(TwoDimensionalRows, DepthAveragedModel):
 
     def __init__(self, **params: Any) -> None:
         super().__init__(**params)
-        self.chute, self.k_active, self.k_passive = chute_and_pressures(self.params)
-        tan_delta = math.tan(math.radians(self.params.delta))
-        if self.params.earth_pressure == "isotropic":
-            self.k_y_active = self.k_y_max = 1.0
-        else:
-            self.k_y_active = lateral_coefficient(self.k_active, 0.0, tan_delta)
-            self.k_y_max = lateral_coefficient(self.k_passive, -1.0, tan_delta)
+        self.chute, k_active, k_passive = chute_and_pressures(self.params)
+        self.set_earth_pressures(k_active, k_passive)
+
+    def pressure_scale(self) -> float:
+        """``epsilon``, the first entry of the packed parameters."""
+        return float(self.params.epsilon)
 
     def check_domain(self, x_min: float, x_max: float) -> None:
         """As the 1D model: a chute table must cover the domain along x."""
         check_chute_covers(self.chute, self.params, x_min, x_max)
-
-    def param_vector(self) -> Array:
-        """``(eps, dry_tolerance, K_act, K_pass, tan delta, largest K_y)``."""
-        p = self.params
-        values = [0.0] * 6
-        values[EPSILON] = p.epsilon
-        values[DRY] = p.dry_tolerance
-        values[K_ACTIVE] = self.k_active
-        values[K_PASSIVE] = self.k_passive
-        values[TAN_DELTA] = math.tan(math.radians(p.delta))
-        values[K_Y_MAX] = self.k_y_max
-        return np.array(values)
-
-    def kernel_variant(self) -> str:
-        """Whether the earth-pressure coefficients switch, and whether there is bed friction."""
-        switch = "earth pressure switches" if self._switches() else "one earth pressure"
-        return switch if self.params.delta > 0.0 else f"{switch}, no bed friction"
-
-    def _switches(self) -> bool:
-        """Whether ``K_x`` or ``K_y`` takes more than one value."""
-        return self.k_active != self.k_passive or self.k_y_active != self.k_y_max
-
-    def capabilities(self) -> dict[str, bool]:
-        """The driving source and the correction always; friction if ``delta > 0``; the
-        per-cell and per-staggered-cell coefficients if an earth pressure switches; no rest
-        range of the coefficients (docs/design.md, "Savage–Hutter in two dimensions")."""
-        switches = self._switches()
-        return {
-            "source": True,
-            "balanced_source": False,
-            "surface": False,
-            "correction": True,
-            "resistance": self.params.delta > 0.0,
-            "dynamic_coefficients": switches,
-            "interface_coefficients": switches,
-            "rest_coefficients": False,
-        }
 
     def uniform_aux(self) -> bool:
         """On a plane chute the static coefficients are the same everywhere."""

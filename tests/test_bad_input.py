@@ -82,6 +82,135 @@ def bad(
 
 
 #: (id, arguments, fragments the error line must contain, files to create first)
+TERRAIN = ["run", "terrain-plane-to-flat", "--set"]
+#: An ESRI ASCII grid of 5 x 5 cells of 20 m from (0, 0): a plane; ``{cells}`` its values.
+ASC = "ncols 5\nnrows 5\nxllcorner 0\nyllcorner 0\ncellsize 20\nNODATA_value -9999\n{cells}"
+PLANE_ROWS = "".join(" ".join(str(100 - 10 * j) for j in range(5)) + "\n" for _ in range(5))
+ON_DEM = ["parameters.terrain=dem", "--set", 'parameters.dem_file="dem.asc"']
+POINT_GEOJSON = (
+    '{"type": "FeatureCollection", "features": [{"type": "Feature", "properties": {}, '
+    '"geometry": {"type": "Point", "coordinates": [150.0, 0.0]}}]}'
+)
+
+
+def terrain_dem(
+    cells: str, *more: str, text: str = ASC
+) -> tuple[list[str], dict[str, str | bytes]]:
+    """The plane-to-flat scene on ``dem.asc`` with the grid values ``cells`` (a 100 m square
+    domain of 5 x 5 cells, the release inside it), plus ``--set`` arguments ``more``."""
+    args = [*TERRAIN, *ON_DEM, "--set", "x_max=100.0", "--set", "y_min=0.0", "--set",
+            "y_max=100.0", "--set", "n_cells=[5, 5]", "--set",
+            "initial.polygon=[[20.0, 20.0], [60.0, 20.0], [60.0, 60.0], [20.0, 60.0]]"]  # fmt: skip
+    for value in more:
+        args += ["--set", value]
+    return args, {"dem.asc": text.format(cells=cells)}
+
+
+TERRAIN_CASES: list[BadInput] = [
+    bad("terrain-unknown-kind", [*TERRAIN, "parameters.terrain=hill"], ["parameters.terrain"]),
+    bad(
+        "terrain-dem-without-file",
+        [*TERRAIN, "parameters.terrain=dem"],
+        ["parameters.dem_file: terrain = 'dem' needs"],
+    ),
+    bad(
+        "terrain-dem-missing-file",
+        terrain_dem(PLANE_ROWS, 'parameters.dem_file="no.tif"'),
+        ["parameters.dem_file", "no.tif", "file not found"],
+    ),
+    bad(
+        "terrain-dem-text-named-tif",
+        (
+            [*TERRAIN, "parameters.terrain=dem", "--set", 'parameters.dem_file="dem.tif"'],
+            {"dem.tif": "not an image\n"},
+        ),
+        ["parameters.dem_file", "cannot be read as a GeoTIFF"],
+    ),
+    bad(
+        "terrain-dem-no-data",
+        terrain_dem(PLANE_ROWS.replace("100 90", "100 -9999", 1)),
+        ["parameters.dem_file", "no-data"],
+    ),
+    bad(
+        "terrain-dem-not-square",
+        terrain_dem(PLANE_ROWS, text=ASC.replace("cellsize 20", "dx 20\ndy 10")),
+        ["parameters.dem_file", "not square"],
+    ),
+    bad(
+        "terrain-dem-short",
+        terrain_dem("100 90 80\n"),
+        ["parameters.dem_file", "cannot be read as an ESRI ASCII grid"],
+    ),
+    bad(
+        "terrain-domain-leaves-the-dem",
+        terrain_dem(PLANE_ROWS, "x_max=200.0", "n_cells=[10, 5]"),
+        ["parameters.terrain: the domain", "leaves the terrain"],
+    ),
+    bad(
+        "terrain-cells-not-square",
+        [*TERRAIN, "n_cells=[100, 100]"],
+        ["n_cells: a terrain scene needs square cells"],
+    ),
+    bad(
+        "terrain-release-outside",
+        [*TERRAIN, "initial.polygon=[[2000.0, 0.0], [2100.0, 0.0], [2100.0, 50.0]]"],
+        ["initial.polygon", "entirely outside"],
+    ),
+    bad(
+        "terrain-release-bow-tie",
+        [*TERRAIN, "initial.polygon=[[100.0, 0.0], [200.0, 50.0], [200.0, 0.0], [100.0, 50.0]]"],
+        ["initial.polygon: not a valid polygon", "Self-intersection"],
+    ),
+    bad(
+        "terrain-release-two-points",
+        [*TERRAIN, "initial.polygon=[[100.0, 0.0], [200.0, 50.0]]"],
+        ["initial.polygon: expected a list of at least three"],
+    ),
+    bad(
+        "terrain-release-too-small",
+        [*TERRAIN, "initial.polygon=[[101.0, 1.0], [102.0, 1.0], [102.0, 2.0]]"],
+        ["initial.polygon: covers no cell centre"],
+    ),
+    bad(
+        "terrain-release-file-missing",
+        [*TERRAIN, "initial.polygon=[]", "--set", 'initial.release_file="release.geojson"'],
+        ["initial.release_file", "release.geojson", "file not found"],
+    ),
+    bad(
+        "terrain-release-file-and-polygon",
+        [*TERRAIN, 'initial.release_file="release.geojson"'],
+        ["initial: give exactly one of release_file and polygon"],
+    ),
+    bad(
+        "terrain-release-a-point",
+        (
+            [*TERRAIN, "initial.polygon=[]", "--set", 'initial.release_file="release.geojson"'],
+            {"release.geojson": POINT_GEOJSON},
+        ),
+        ["initial.release_file", "is a Point"],
+    ),
+    bad("terrain-thickness-negative", [*TERRAIN, "initial.thickness=-1"], ["initial.thickness"]),
+    bad(
+        "terrain-measured-sideways",
+        [*TERRAIN, 'initial.measured="sideways"'],
+        ["initial.measured: expected 'normal' or 'vertical'"],
+    ),
+    bad(
+        "terrain-geotiff-without-terrain",
+        ["run", "sh2d-similarity", "--set", 'output.formats=["geotiff"]'],
+        ["output.formats: 'geotiff'", "savage-hutter-2d"],
+    ),
+    bad(
+        "terrain-plane-to-flat-uphill",
+        [*TERRAIN, "parameters.zeta=-10"],
+        ["parameters.zeta: a plane-to-flat terrain descends"],
+    ),
+    bad("terrain-density-zero", [*TERRAIN, "parameters.density=0"], ["parameters.density"]),
+    bad("terrain-delta-above-phi", [*TERRAIN, "parameters.delta=40"], ["parameters.delta"]),
+    bad("terrain-gravity-nan", [*TERRAIN, "parameters.gravity=nan"], ["parameters.gravity"]),
+]
+
+
 CASES: list[BadInput] = [
     # ---- nesting, odd paths and values (each was a traceback or a hang)
     bad(
@@ -783,6 +912,7 @@ CASES: list[BadInput] = [
         ["is not valid TOML", "Cannot declare ('initial',) twice"],
         scene_file(SCENE + '[initial]\nkind = "sine"\n'),
     ),
+    *TERRAIN_CASES,
     bad(
         "convergence-bad-cells",
         ["convergence", "dam-break-wet", "--cells", "10,abc"],

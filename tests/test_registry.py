@@ -153,8 +153,8 @@ def test_threads_see_every_entry_in_a_fresh_interpreter() -> None:
         done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
         assert done.returncode == 0, done.stderr
         assert done.stdout.strip() == (
-            "[('burgers', 'burgers-2d', 'savage-hutter', 'savage-hutter-2d', 'shallow-water', "
-            "'shallow-water-2d')]"
+            "[('burgers', 'burgers-2d', 'savage-hutter', 'savage-hutter-2d', "
+            "'savage-hutter-terrain', 'shallow-water', 'shallow-water-2d')]"
         )
 
 

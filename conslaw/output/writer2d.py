@@ -19,12 +19,17 @@ class RunWriter2D(RunWriter):
     """:class:`~conslaw.output.writer.RunWriter` for a
     :class:`~conslaw.simulation2d.RunResult2D`: pass it as ``on_output`` to
     :func:`conslaw.simulation2d.simulate_2d` and call :meth:`finish` at the end.
-    ``figures(result, folder)`` draws the figures (:func:`conslaw.plotting2d.write_figures_2d`).
+    ``figures(result, folder)`` draws the figures (:func:`conslaw.plotting2d.write_figures_2d`);
+    ``final_files(result, folder, formats)`` gives files written with the final history, all
+    or nothing (the hazard maps, :func:`conslaw.terrain.hazard_maps.hazard_output_files`).
     """
 
-    def __init__(self, folder: Path, scene: Any, figures: Any = None) -> None:
+    def __init__(
+        self, folder: Path, scene: Any, figures: Any = None, final_files: Any = None
+    ) -> None:
         super().__init__(folder, scene, figures)
         self._mesh_2d: Any = None
+        self._final_files = final_files
 
     def __call__(self, result: Any) -> None:
         """Write the newest output of ``result`` and ``states.npz``, all or nothing."""
@@ -59,7 +64,11 @@ class RunWriter2D(RunWriter):
         return super().finish(result)
 
     def history(self, result: Any, commit: OutputCommit, final: bool = False) -> None:
-        """Stage ``states.npz`` of the outputs so far (npz), compressed at the end."""
+        """Stage ``states.npz`` of the outputs so far (npz), compressed at the end; at the end
+        also the ``final_files``."""
         if "npz" in self.formats:
             data = states_bytes_2d(result, self.provenance, compressed=final)
             self._wrote(commit.put(self.folder / "states.npz", data))
+        if final and self._final_files is not None:
+            for path, data in self._final_files(result, self.folder, self.formats).items():
+                self._wrote(commit.put(path, data))

@@ -1,13 +1,13 @@
 """The source at the quarter points and the Coulomb resistance of the Jiang–Tadmor step, for a
-2D model whose coefficients vary along x (a chute): the 1D rule of Tai et al. (2001, eqs.
-13–14) on the quarters of the four source cells of a new cell.
+2D model whose coefficients vary along x (a chute) or over the plane (a terrain): the 1D rule
+of Tai et al. (2001, eqs. 13–14) on the quarters of the four source cells of a new cell.
 
 The new cell centred on the common corner of ``a`` (lower left), ``b`` (lower right), ``c``
 (upper left) and ``d`` (upper right) holds one quarter of each; their mid-step values at the
 quarters' centres are ``p_a + w'_a/4 + w*_a/4``, ``p_b - w'_b/4 + w*_b/4``, ``p_c + w'_c/4 -
 w*_c/4`` and ``p_d - w'_d/4 - w*_d/4`` (``p`` the predicted values, ``w'`` and ``w*`` the
-undivided slopes in x and y), with the coefficients at ``x + dx/4`` for ``a`` and ``c`` and at
-``x - dx/4`` for ``b`` and ``d``. Then::
+undivided slopes in x and y), with the coefficients at the same points (along a chute: at ``x +
+dx/4`` for ``a`` and ``c`` and at ``x - dx/4`` for ``b`` and ``d``). Then::
 
     w_new += dt/4 ((s_a + s_b) + (s_c + s_d))
     impulse = dt/4 ((R_a + R_b) + (R_c + R_d))
@@ -43,7 +43,12 @@ def corners(array: Array) -> tuple[Array, Array, Array, Array]:
     return array[..., :-1, :-1], array[..., :-1, 1:], array[..., 1:, :-1], array[..., 1:, 1:]
 
 
-def resist(momentum_x: Array, momentum_y: Array, impulse: Array) -> None:
+def resist(
+    momentum_x: Array,
+    momentum_y: Array,
+    impulse: Array,
+    slopes: tuple[Array, Array] | None = None,
+) -> None:
     """Coulomb's stopping rule in place: ``m = 0`` where ``|m| <= impulse``, else ``m - impulse
     m / |m|``: friction never reverses the momentum (docs/equations.md; the 1D scheme's rule
     along x).
@@ -54,8 +59,15 @@ def resist(momentum_x: Array, momentum_y: Array, impulse: Array) -> None:
         The momentum components, changed in place.
     impulse : numpy.ndarray
         The friction's impulse over the step, ``>= 0``, of the same shape.
+    slopes : tuple of numpy.ndarray, optional
+        A surface gradient ``(b_x, b_y)`` of the same shape: ``m`` is then the map projection
+        of a momentum tangent to the surface, whose length is ``|m|_G = (|m|^2 + (b_x m_x + b_y
+        m_y)^2)^(1/2)``, and the rule applies in that length (docs/design.md, "Savage–Hutter on
+        terrain").
     """
     size = np.hypot(momentum_x, momentum_y)
+    if slopes is not None:
+        size = np.hypot(size, slopes[0] * momentum_x + slopes[1] * momentum_y)
     stopped = size <= impulse
     safe = np.where(stopped, 1.0, size)
     for momentum in (momentum_x, momentum_y):
@@ -80,9 +92,10 @@ def add_quarter_terms(
     model: Model,
     new: Array,
     parts: tuple[Array, Array, Array],
-    quarter_aux: tuple[Array, Array],
+    quarter_aux: tuple[Array, Array, Array, Array],
     dt: float,
     resistance: bool,
+    slopes: tuple[Array, Array] | None = None,
 ) -> None:
     """Add the source at the quarter points to the new cells ``new`` and apply the resistance,
     in place.
@@ -96,15 +109,25 @@ def add_quarter_terms(
     parts : tuple of numpy.ndarray
         The predicted values and the slopes in x and in y of the source cells.
     quarter_aux : tuple of numpy.ndarray
-        The static coefficients of the source cells at their left and right quarter points.
+        The static coefficients of the source cells at the centres of their upper-right,
+        upper-left, lower-right and lower-left quarters (the quarter of ``a``, ``b``, ``c``,
+        ``d`` in the new cell is its upper-right, upper-left, lower-right, lower-left one).
     dt : float
         The time step.
     resistance : bool
         Whether to apply the Coulomb resistance.
+    slopes : tuple of numpy.ndarray, optional
+        The surface gradient at the new cells, for a resistance in the surface metric
+        (:func:`resist`).
     """
     quarters = _quarter_values(*parts)
-    left, right = quarter_aux
-    aux = [right[..., :-1, :-1], left[..., :-1, 1:], right[..., 1:, :-1], left[..., 1:, 1:]]
+    upper_right, upper_left, lower_right, lower_left = quarter_aux
+    aux = [
+        upper_right[..., :-1, :-1],
+        upper_left[..., :-1, 1:],
+        lower_right[..., 1:, :-1],
+        lower_left[..., 1:, 1:],
+    ]
     shape = new.shape
     flat = [
         (q.reshape(shape[0], -1), a.reshape(a.shape[0], q[0].size))
@@ -118,4 +141,4 @@ def add_quarter_terms(
     impulse = (0.25 * dt) * ((r[0] + r[1]) + (r[2] + r[3]))
     m_x, m_y = model.momentum_index, model.momentum_y_index
     assert m_x is not None and m_y is not None
-    resist(new[m_x], new[m_y], impulse)
+    resist(new[m_x], new[m_y], impulse, slopes)

@@ -61,11 +61,12 @@ from numpy.typing import NDArray
 
 from conslaw.boundary import builtin_boundary_conditions
 from conslaw.errors import ConfigError, SchemeBreakdownError
+from conslaw.grid import Grid
 from conslaw.grid2d import Grid2D
 from conslaw.model import Model
 from conslaw.reconstruct import Reconstructor
 from conslaw.reconstruct.base import STENCIL_HALF_WIDTH
-from conslaw.schemes.coefficient_families import coefficient_family
+from conslaw.schemes.coefficient_families import coefficient_family, padded_positions
 from conslaw.schemes.depth_rules import velocity_bounded_slope
 from conslaw.schemes.jiang_tadmor.bed import (
     QUARTER_SIGNS,
@@ -182,6 +183,58 @@ def inflow_states(
     return states
 
 
+def _padded_points(
+    axis: Grid, offset: float, periodic: bool, low: str, high: str, shift: float
+) -> tuple[Array, NDArray[np.bool_], NDArray[np.bool_]]:
+    """The points ``shift`` cell widths from the centres of a padded family along one axis, by
+    the rules of :func:`~conslaw.schemes.coefficient_families.coefficient_family`: a periodic
+    ghost takes the point of the cell it copies (by index), an outflow or inflow ghost its edge
+    cell's, a wall ghost the mirror image of its point. A staggered cell centred on a wall has
+    its point beyond the wall mirrored too.
+
+    Returns
+    -------
+    points : numpy.ndarray
+    mirrored : numpy.ndarray of bool
+        The points that are mirror images (their coefficients take the mirror signs).
+    on_wall : numpy.ndarray of bool
+        The staggered cells centred on a wall (their odd coefficients vanish at the centre).
+    """
+    x = padded_positions(axis, offset, periodic, GHOSTS)
+    n = axis.n_cells_at(offset, periodic)
+    centre = x.copy()
+    direction = np.ones_like(x)
+    mirrored = np.zeros(x.shape, dtype=bool)
+    on_wall = np.zeros(x.shape, dtype=bool)
+    sides = (
+        (low, slice(0, GHOSTS), axis.x_min, GHOSTS),
+        (high, slice(GHOSTS + n, x.size), axis.x_max, GHOSTS + n - 1),
+    )
+    for kind, cells, boundary, edge in sides:
+        if periodic:
+            index = np.arange(x.size)[cells]
+            centre[cells] = x[GHOSTS + np.mod(index - GHOSTS, n)]
+        elif kind == "wall":
+            centre[cells] = 2.0 * boundary - x[cells]
+            direction[cells] = -1.0
+            mirrored[cells] = True
+        else:
+            centre[cells] = x[edge]
+    points = centre + direction * (shift * axis.dx)
+    if offset != 0.0 and not periodic:
+        for kind, (_, _, boundary, edge), outward in zip(
+            (low, high), sides, (-1.0, 1.0), strict=True
+        ):
+            if kind != "wall":
+                continue
+            on_wall[edge] = True
+            points[edge] = boundary + shift * axis.dx
+            if shift * outward > 0.0:
+                points[edge] = boundary - shift * axis.dx
+                mirrored[edge] = True
+    return points, mirrored, on_wall
+
+
 def _coefficient_layout_error(model: Model) -> str:
     """What the 2D scheme cannot serve in how ``model`` lays out its coefficients and terms
     (``Model.aux_layout_2d``), as the end of a sentence naming it, or ``""``."""
@@ -196,11 +249,11 @@ def _coefficient_layout_error(model: Model) -> str:
         if uses["source"] and not uses["balanced_source"]:
             return "has a bed and a source that is not the well-balanced one (balanced_source)"
         return ""
-    if model.aux_layout_2d == "along-x":
+    if model.aux_layout_2d in ("along-x", "field"):
         return ""
     return (
-        f"has coefficients but aux_layout_2d = {model.aux_layout_2d!r}: it must be 'bed' or "
-        "'along-x'"
+        f"has coefficients but aux_layout_2d = {model.aux_layout_2d!r}: it must be 'bed', "
+        "'along-x' or 'field'"
     )
 
 
@@ -270,9 +323,10 @@ class JiangTadmorReference:
         self.uses = uses
         self.periodic_x = boundaries["left"] == "periodic"
         self.periodic_y = boundaries["bottom"] == "periodic"
-        #: Coefficients along x (a chute) at the left and right quarter points of every padded
-        #: cell of each family (:meth:`_family_aux`), for the source at the quarter points.
-        self._quarters: dict[bool, tuple[Array, Array]] = {}
+        #: The coefficients at the centres of the upper-right, upper-left, lower-right and
+        #: lower-left quarters of every padded cell of each family (:meth:`_family_aux`), for
+        #: the source at the quarter points.
+        self._quarters: dict[bool, tuple[Array, Array, Array, Array]] = {}
         self._aux = {staggered: self._family_aux(staggered) for staggered in (False, True)}
 
     def family_shape(self, staggered: bool) -> tuple[int, int]:
@@ -286,10 +340,12 @@ class JiangTadmorReference:
         rows, columns = self.family_shape(staggered)
         if model.n_aux == 0:
             empty = np.zeros((0, rows + 2 * GHOSTS, columns + 2 * GHOSTS))
-            self._quarters[staggered] = (empty, empty)
+            self._quarters[staggered] = (empty, empty, empty, empty)
             return empty
         if model.aux_layout_2d == "along-x":
             return self._along_x_aux(staggered)
+        if model.aux_layout_2d == "field":
+            return self._field_aux(staggered)
         quarters = quarter_averages(model, self.grid, self.boundaries)
         periodic = (self.periodic_x, self.periodic_y)
         aux = family_bed(quarters, self.grid, staggered, periodic)
@@ -322,8 +378,41 @@ class JiangTadmorReference:
             )
             for aux in family
         )
-        self._quarters[staggered] = (left, right)
+        self._quarters[staggered] = (right, left, right, left)
         return centre
+
+    def _field_aux(self, staggered: bool) -> Array:
+        """The coefficients of a model whose coefficients vary over the plane (``Model.aux_2d``
+        at map points, a terrain), padded: at the centres of the family's cells and, in
+        ``self._quarters[staggered]``, at the centres of their upper-right, upper-left,
+        lower-right and lower-left quarters. A ghost cell of an outflow or inflow side takes
+        the points of its edge cell; a point beyond a wall takes the coefficients of its mirror
+        image (with ``aux_reflect_signs``, ``aux_reflect_signs_y``); periodic sides wrap."""
+        model = self.model
+        grid = self.grid
+        ones = (1.0,) * model.n_aux
+        signs_x = np.asarray(model.aux_reflect_signs or ones)[:, None, None]
+        signs_y = np.asarray(model.aux_reflect_signs_y or model.aux_reflect_signs or ones)[
+            :, None, None
+        ]
+        offset = 0.5 if staggered else 0.0
+        families = []
+        shifts = ((0.0, 0.0), (0.25, 0.25), (-0.25, 0.25), (0.25, -0.25), (-0.25, -0.25))
+        sides_x = (self.boundaries["left"], self.boundaries["right"])
+        sides_y = (self.boundaries["bottom"], self.boundaries["top"])
+        for shift_x, shift_y in shifts:
+            x, flip_x, wall_x = _padded_points(grid.x, offset, self.periodic_x, *sides_x, shift_x)
+            y, flip_y, wall_y = _padded_points(grid.y, offset, self.periodic_y, *sides_y, shift_y)
+            aux = model.aux_2d(x[None, :], y[:, None])
+            aux = np.where(flip_x[None, None, :], signs_x * aux, aux)
+            aux = np.where(flip_y[None, :, None], signs_y * aux, aux)
+            if shift_x == 0.0:
+                # A staggered cell centred on a wall: the mirror-symmetric coefficients there.
+                aux = np.where(wall_x[None, None, :] & (signs_x < 0.0), 0.0, aux)
+                aux = np.where(wall_y[None, :, None] & (signs_y < 0.0), 0.0, aux)
+            families.append(np.ascontiguousarray(aux))
+        self._quarters[staggered] = (families[1], families[2], families[3], families[4])
+        return families[0]
 
     def still_water(self, surface: float) -> Array:
         """Primary-family values of still water at ``surface`` over the model's bed
@@ -729,10 +818,23 @@ class JiangTadmorReference:
         if self.uses["balanced_source"]:
             new += dt * self._balanced_sources(predicted, aux)
         elif self.uses["source"]:
-            left, right = self._quarters[staggered]
-            quarter_aux = (left[:, rows, columns], right[:, rows, columns])
+            quarters = self._quarters[staggered]
+            quarter_aux = (
+                quarters[0][:, rows, columns],
+                quarters[1][:, rows, columns],
+                quarters[2][:, rows, columns],
+                quarters[3][:, rows, columns],
+            )
             parts = (predicted, slopes_x, slopes_y)
-            add_quarter_terms(self.model, new, parts, quarter_aux, dt, self.uses["resistance"])
+            add_quarter_terms(
+                self.model,
+                new,
+                parts,
+                quarter_aux,
+                dt,
+                self.uses["resistance"],
+                self._tangent_slopes(self.family_aux(not staggered)),
+            )
         return self._finish(new, w, first, staggered, dt)
 
     def _cell_coefficients(
@@ -755,7 +857,12 @@ class JiangTadmorReference:
         m_x, m_y = model.momentum_index, model.momentum_y_index
         assert m_x is not None and m_y is not None
         rate = model.resistance(_columns(values), _columns(aux)).reshape(values.shape[1:])
-        resist(predicted[m_x], predicted[m_y], 0.5 * dt * rate)
+        resist(predicted[m_x], predicted[m_y], 0.5 * dt * rate, self._tangent_slopes(aux))
+
+    def _tangent_slopes(self, aux: Array) -> tuple[Array, Array] | None:
+        """The surface gradient rows of ``aux`` (``Model.tangent_slope_rows``), or None."""
+        rows = self.model.tangent_slope_rows
+        return None if rows is None else (aux[rows[0]], aux[rows[1]])
 
     def _corner_fluxes(
         self, predicted: Array, aux: Array, static: Array

@@ -471,6 +471,7 @@ class JiangTadmor:
         t: float,
         t_end: float,
         progress: Callable[[float, int], Any] | None = None,
+        observe: Callable[[Array], Any] | None = None,
     ) -> tuple[Array, float, int]:
         """Advance primary-family values from ``t`` to exactly ``t_end``, as
         :meth:`JiangTadmorReference.advance`: step pairs of one ``dt``, a pair redone with half
@@ -485,6 +486,9 @@ class JiangTadmor:
             The start and the end time.
         progress : callable, optional
             Called as ``progress(t, steps)`` after every step pair.
+        observe : callable, optional
+            Called as ``observe(values)`` with the primary-family values (a view, not to be
+            kept) after every step pair (the peak fields of hazard maps).
 
         Returns
         -------
@@ -509,6 +513,8 @@ class JiangTadmor:
             self._check_finite(0, 0, 0.0)
             while t < t_end:
                 t, steps = self._advance_pair(t, t_end, steps)
+                if observe is not None:
+                    observe(self._values(0))
                 if progress is not None:
                     progress(t, steps)
         except _NotFiniteError as error:
