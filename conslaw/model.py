@@ -255,9 +255,19 @@ class Model(ABC):
         """
         self.check_domain(grid.x.x_min, grid.x.x_max)
 
+    def check_boundaries_2d(self, kinds: Mapping[str, str]) -> None:
+        """Raise ConfigError if a 2D model's own data cannot take the side kinds ``kinds``
+        (``left``, ``right``, ``bottom``, ``top`` -> kind name); the default accepts any.
+
+        Parameters
+        ----------
+        kinds : mapping
+        """
+        return None
+
     def scene_dem(self, grid: Grid2D) -> Any:
         """A 2D model's terrain on the cells of ``grid`` as an elevation model with its
-        georeference, for hazard maps (:mod:`conslaw.output.hazard`); None without a terrain
+        georeference, for hazard maps (:mod:`conslaw.terrain.hazard_maps`); None without a terrain
         (the default).
 
         Parameters

@@ -1,6 +1,6 @@
 """The largest flow depth and speed every cell sees during a 2D run, updated after every step
-pair (not sampled from the output times), and what hazard maps take from them: peak pressure,
-run-out and travel angle (docs/output.md, "Hazard maps").
+pair (not sampled from the output times), and the peak pressure (docs/output.md, "Hazard
+maps").
 
 The model says what its depth and speed are (``Model.flow_depth_and_speed``): for the terrain
 model the thickness normal to the slope and the speed in the surface.
@@ -8,7 +8,6 @@ model the thickness normal to the slope and the speed in the surface.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -97,53 +96,3 @@ class PeakFields:
         numpy.ndarray
         """
         return 1e-3 * density * self.speed * self.speed
-
-
-@dataclass(frozen=True)
-class RunOut:
-    """Where the flow went, on straight lines from the top of the release.
-
-    ``length``: the largest horizontal distance from the highest released cell to a cell the
-    flow reached (peak depth >= :data:`REACHED_DEPTH`); ``drop``: the elevation of that
-    released cell above the reached one; ``alpha``: the travel angle ``atan(drop / length)`` in
-    degrees (Heim's Fahrböschung; Lied & Bakkehøi 1980 for snow avalanches); ``end``: the map
-    point of the reached cell.
-    """
-
-    length: float
-    drop: float
-    alpha: float
-    end: tuple[float, float]
-
-
-def run_out(
-    grid: Grid2D, elevation: Array, released: NDArray[np.bool_], peak_depth: Array
-) -> RunOut | None:
-    """The run-out and travel angle of a run (:class:`RunOut`), or None if nothing was
-    released or reached.
-
-    Parameters
-    ----------
-    grid : Grid2D
-    elevation : numpy.ndarray
-        ``(ny, nx)`` terrain elevation at the cell centres, m.
-    released : numpy.ndarray of bool
-        The released cells.
-    peak_depth : numpy.ndarray
-        ``(ny, nx)`` peak flow depth, m.
-
-    Returns
-    -------
-    RunOut or None
-    """
-    reached = peak_depth >= REACHED_DEPTH
-    if not released.any() or not reached.any():
-        return None
-    x, y = grid.centres()
-    top = np.unravel_index(np.argmax(np.where(released, elevation, -np.inf)), elevation.shape)
-    distance = np.hypot(x[None, :] - x[top[1]], y[:, None] - y[top[0]])
-    far = np.unravel_index(np.argmax(np.where(reached, distance, -1.0)), distance.shape)
-    length = float(distance[far])
-    drop = float(elevation[top] - elevation[far])
-    alpha = math.degrees(math.atan2(drop, length)) if length > 0.0 else 90.0
-    return RunOut(length, drop, alpha, (float(x[far[1]]), float(y[far[0]])))

@@ -43,7 +43,7 @@ if TYPE_CHECKING:
 
 SIDES_2D = ("left", "right", "bottom", "top")
 #: File formats of a 2D run (``output.formats``; docs/output.md).
-OUTPUT_FORMATS_2D = ("npz", "xdmf", "geotiff")
+OUTPUT_FORMATS_2D = ("npz", "xdmf", "geotiff", "gif")
 
 #: Every top-level key of a 2D scene with its default (REQUIRED: the scene must give it).
 DEFAULTS_2D: dict[str, Any] = {
@@ -344,16 +344,18 @@ def validate_2d(
         model_object = model_class(**parameters)  # validates its own parameters
     grid = Grid2D.from_bounds(x_min, x_max, nx, y_min, y_max, ny)
     model_object.check_domain_2d(grid)
+    model_object.check_boundaries_2d(boundaries)
     initial_table = table["initial"]
     if isinstance(initial_table, Mapping):
         initial_table = resolve_files(initial_table, folder, "initial")
     initial = InitialCondition2D.from_table(initial_table, model_class)
     formats, plot = _output(table["output"])
-    if "geotiff" in formats and model_object.scene_dem(grid) is None:
-        raise ConfigError(
-            f"output.formats: 'geotiff' writes the hazard maps of a model on terrain; "
-            f"'{model}' has none"
-        )
+    for terrain_only in ("geotiff", "gif"):
+        if terrain_only in formats and model_object.scene_dem(grid) is None:
+            raise ConfigError(
+                f"output.formats: '{terrain_only}' writes the hazard maps of a model on terrain; "
+                f"'{model}' has none"
+            )
     return Scene2D(
         name=name, description=table["description"], model=model, parameters=parameters,
         scheme=scheme, reconstructor=reconstructor, cfl=cfl, nx=nx, ny=ny, x_min=x_min,

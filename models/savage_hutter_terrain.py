@@ -85,6 +85,11 @@ CURVE_XX, CURVE_XY, CURVE_YY = 10, 11, 12
 KX, KY = 13, 14
 
 TERRAIN_KINDS = ("plane", "bowl", "plane-to-flat", "channel", "dem")
+#: The steepest slope, degrees, of a formula terrain and of a released cell: the thin-layer
+#: equations hold for a layer much thinner than the slope is long, and the volume per map area
+#: ``h / cos(theta)`` of a given thickness grows without bound toward a cliff
+#: (docs/design.md, "Savage–Hutter on terrain").
+MAX_SLOPE = 75.0
 
 
 @njit(cache=True)
@@ -235,7 +240,7 @@ class SavageHutterTerrainParameters:
     )
     zeta: float = parameter(
         30.0,
-        "`plane`, `plane-to-flat`, `channel`: inclination in degrees, in (-90, 90) (in (0, 90) "
+        "`plane`, `plane-to-flat`, `channel`: inclination in degrees, in [-75, 75] (in (0, 75] "
         "for the last two); positive where it descends in +x",
     )
     bowl_radius: float = parameter(100.0, "`bowl`: radius of curvature $R$ at the bottom in m; > 0")
@@ -276,8 +281,11 @@ class SavageHutterTerrainParameters:
             raise ConfigError(
                 f"parameters.terrain: unknown '{self.terrain}'; allowed: {', '.join(TERRAIN_KINDS)}"
             )
-        if not -90 < self.zeta < 90:
-            raise ConfigError(f"parameters.zeta: must be in (-90, 90) degrees, got {self.zeta}")
+        if not -MAX_SLOPE <= self.zeta <= MAX_SLOPE:
+            raise ConfigError(
+                f"parameters.zeta: must be in [-{MAX_SLOPE:g}, {MAX_SLOPE:g}] degrees (a thin "
+                f"layer on a slope), got {self.zeta}"
+            )
         if not self.bowl_radius > 0:
             raise ConfigError(f"parameters.bowl_radius: must be > 0, got {self.bowl_radius}")
         if not self.channel_depth >= 0:
@@ -305,6 +313,34 @@ class SavageHutterTerrainParameters:
             raise ConfigError(
                 f"parameters.dry_tolerance: must be in [0, 1e-3), got {self.dry_tolerance}"
             )
+
+
+def check_release_slopes(released: NDArray[np.bool_], cosine: Array, x: Array, y: Array) -> None:
+    """Refuse a release on a slope steeper than :data:`MAX_SLOPE`.
+
+    Parameters
+    ----------
+    released : numpy.ndarray of bool
+        ``(ny, nx)``.
+    cosine : numpy.ndarray
+        ``(ny, nx)`` cosine of the slope angle.
+    x, y : numpy.ndarray
+        The cell centres along x and y.
+
+    Raises
+    ------
+    ConfigError
+        Naming ``initial``, the steepest released cell and its slope.
+    """
+    steep = released & (cosine < math.cos(math.radians(MAX_SLOPE)))
+    if steep.any():
+        row, column = np.unravel_index(np.argmin(np.where(steep, cosine, np.inf)), steep.shape)
+        angle = math.degrees(math.acos(float(cosine[row, column])))
+        raise ConfigError(
+            f"initial: {int(np.count_nonzero(steep))} released cells are steeper than "
+            f"{MAX_SLOPE:g} degrees (the steepest {angle:.1f} at x={x[column]:g}, y={y[row]:g}): "
+            "a thin layer cannot rest on a cliff; move the release"
+        )
 
 
 def make_surface(
@@ -440,6 +476,22 @@ class SavageHutterTerrain(TwoEarthPressures, TwoDimensionalRows, DepthAveragedMo
         along = aux[SLOPE_X] * u + aux[SLOPE_Y] * v
         return aux[COS] * depth, np.sqrt(u * u + v * v + along * along)
 
+    def check_boundaries_2d(self, kinds: Mapping[str, str]) -> None:
+        """Periodic sides only on a plane: elsewhere the terrain does not repeat, and material
+        leaving the run-out would come back at the top of the slope.
+
+        Raises
+        ------
+        ConfigError
+            Naming the periodic side.
+        """
+        periodic = [side for side, kind in kinds.items() if kind == "periodic"]
+        if periodic and self.params.terrain != "plane":
+            raise ConfigError(
+                f"boundary.{periodic[0]}: periodic sides need a terrain that repeats (terrain = "
+                f"'plane'); a '{self.params.terrain}' terrain does not"
+            )
+
     def check_domain_2d(self, grid: Grid2D) -> None:
         """The terrain must cover the domain, and the cells be square (for the release areas
         and the GeoTIFFs of the hazard maps, :meth:`scene_dem`).
@@ -514,6 +566,10 @@ class SavageHutterTerrain(TwoEarthPressures, TwoDimensionalRows, DepthAveragedMo
             return (thickness / slope_cosine(b_x, b_y))[None]
 
         h = gauss_average(volume_per_area, grid.x.edges, grid.y.edges)[0]
+        x, y = grid.centres()
+        _, b_x, b_y, *_ = self.surface.derivatives(x[None, :], y[:, None])
+        piled = ((x[None, :] - x0) / a) ** 2 + ((y[:, None] - y0) / b) ** 2 < 1.0
+        check_release_slopes(piled, slope_cosine(b_x, b_y), x, y)
         return np.stack([h, np.zeros_like(h), np.zeros_like(h)])
 
     def _release(self, options: Mapping[str, Any], grid: Grid2D) -> Array:
@@ -535,6 +591,7 @@ class SavageHutterTerrain(TwoEarthPressures, TwoDimensionalRows, DepthAveragedMo
         x, y = grid.centres()
         _, b_x, b_y, *_ = self.surface.derivatives(x[None, :], y[:, None])
         c = slope_cosine(b_x, b_y)
+        check_release_slopes(mask, c, x, y)
         released = thickness if measured == "vertical" else thickness / c
         h = np.where(mask, released, 0.0) + thin / c
         return np.stack([h, np.zeros_like(h), np.zeros_like(h)])

@@ -22,6 +22,10 @@ from conslaw_models.terrain_surface import TerrainSurface
 
 #: Longest time step of the integration, s (the transition arcs are resolved).
 MAX_STEP = 0.1
+#: Longest time a point may slide, s.
+MAX_TIME = 1e4
+#: Farthest an energy line is followed from its release, m.
+MAX_DISTANCE = 1e7
 
 
 def _profile(surface: TerrainSurface, x: float) -> tuple[float, float, float]:
@@ -48,6 +52,11 @@ def sliding_stop(surface: TerrainSurface, x0: float, tan_delta: float, gravity: 
     -------
     float
         The x where the speed returns to 0 (or the release, if friction holds it there).
+
+    Raises
+    ------
+    ValueError
+        If the point does not stop within :data:`MAX_TIME`.
     """
     _, slope, _ = _profile(surface, x0)
     if -slope <= tan_delta:
@@ -65,8 +74,13 @@ def sliding_stop(surface: TerrainSurface, x0: float, tan_delta: float, gravity: 
     stopped.terminal = True  # type: ignore[attr-defined]
     stopped.direction = -1  # type: ignore[attr-defined]
     solution = solve_ivp(
-        rates, (0.0, 1e4), [x0, 0.0], events=stopped, rtol=1e-10, atol=1e-10, max_step=MAX_STEP
+        rates, (0.0, MAX_TIME), [x0, 0.0], events=stopped, rtol=1e-10, atol=1e-10, max_step=MAX_STEP
     )
+    if solution.status != 1:
+        raise ValueError(
+            f"the point released at x = {x0:g} does not stop within {MAX_TIME:g} s (a slope "
+            "steeper than delta without end?)"
+        )
     return float(solution.y[0, -1])
 
 
@@ -83,6 +97,11 @@ def energy_line_stop(surface: TerrainSurface, x0: float, tan_delta: float) -> fl
     Returns
     -------
     float
+
+    Raises
+    ------
+    ValueError
+        If the line does not meet the profile within :data:`MAX_DISTANCE`.
     """
     z0 = _profile(surface, x0)[0]
 
@@ -92,6 +111,11 @@ def energy_line_stop(surface: TerrainSurface, x0: float, tan_delta: float) -> fl
     step = 1.0
     low, high = x0, x0 + step
     while above(high) > 0.0:
+        if high - x0 > MAX_DISTANCE:
+            raise ValueError(
+                f"the energy line from x = {x0:g} does not meet the profile within "
+                f"{MAX_DISTANCE:g} m (a slope steeper than delta without end?)"
+            )
         low, high = high, high + step
         step *= 2.0
     for _ in range(200):

@@ -38,6 +38,18 @@ class TerrainSurface(Protocol):
         ...
 
 
+#: Cells of linear extrapolation around a gridded surface before its spline is fitted.
+PADDING = 2
+
+
+def _extended(centres: Array) -> Array:
+    """``centres`` continued by :data:`PADDING` equal steps on both ends."""
+    step = centres[1] - centres[0]
+    before = centres[0] - step * np.arange(PADDING, 0, -1)
+    after = centres[-1] + step * np.arange(1, PADDING + 1)
+    return np.concatenate([before, centres, after])
+
+
 @dataclass(frozen=True)
 class InclinedPlane:
     """The plane descending at ``angle`` degrees toward +x: ``b = -x tan(angle)`` (the chute
@@ -168,9 +180,12 @@ class ChannelledPlaneToFlat:
 
 @dataclass(frozen=True)
 class GriddedSurface:
-    """A surface sampled at cell centres ``x_centres`` (ascending) by ``y_centres``
-    (ascending), ``elevation`` of shape ``(ny, nx)``, interpolated by a bicubic spline through
-    the samples (``RectBivariateSpline`` with ``s = 0``; at least 4 x 4 samples)."""
+    """A surface sampled at cell centres ``x_centres`` (ascending, equally spaced) by
+    ``y_centres`` (likewise), ``elevation`` of shape ``(ny, nx)``, interpolated by a bicubic
+    spline through the samples (``RectBivariateSpline`` with ``s = 0``; at least 4 x 4
+    samples). The samples are first continued by :data:`PADDING` cells on every side by linear
+    extrapolation (``2 z_edge - z_mirror``), so that the spline covers the outer half cells of
+    the DEM and the quarter points beyond them (FITPACK clamps a spline outside its knots)."""
 
     x_centres: Array
     y_centres: Array
@@ -183,8 +198,14 @@ class GriddedSurface:
             raise ConfigError(
                 f"terrain: a gridded surface needs at least 4 x 4 samples, got {nx} x {ny}"
             )
+        elevation = np.pad(
+            np.asarray(self.elevation, dtype=np.float64),
+            PADDING,
+            mode="reflect",
+            reflect_type="odd",
+        )
         spline = RectBivariateSpline(
-            self.y_centres, self.x_centres, np.asarray(self.elevation, dtype=np.float64), s=0
+            _extended(self.y_centres), _extended(self.x_centres), elevation, s=0
         )
         object.__setattr__(self, "_spline", spline)
 
@@ -199,8 +220,9 @@ class GriddedSurface:
         return value(0, 0), value(1, 0), value(0, 1), value(2, 0), value(1, 1), value(0, 2)
 
     def covers(self, x_min: float, x_max: float, y_min: float, y_max: float) -> str | None:
-        """The domain must lie between the outermost cell centres (plus half a cell): the
-        spline is not extrapolated further."""
+        """The domain must lie within the DEM: between the outermost cell centres plus half a
+        cell (the linear continuation of :data:`PADDING` cells serves only the outer half
+        cells and their quarter points)."""
         half_x = 0.5 * (self.x_centres[1] - self.x_centres[0])
         half_y = 0.5 * (self.y_centres[1] - self.y_centres[0])
         low_x, high_x = self.x_centres[0] - half_x, self.x_centres[-1] + half_x

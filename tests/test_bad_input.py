@@ -208,6 +208,24 @@ TERRAIN_CASES: list[BadInput] = [
     bad("terrain-density-zero", [*TERRAIN, "parameters.density=0"], ["parameters.density"]),
     bad("terrain-delta-above-phi", [*TERRAIN, "parameters.delta=40"], ["parameters.delta"]),
     bad("terrain-gravity-nan", [*TERRAIN, "parameters.gravity=nan"], ["parameters.gravity"]),
+    bad(
+        "terrain-periodic-sides-on-a-slope",
+        [*TERRAIN, "boundary.left=periodic", "--set", "boundary.right=periodic"],
+        ["boundary.left: periodic sides need a terrain that repeats"],
+    ),
+    bad("terrain-plane-too-steep", [*TERRAIN, "parameters.zeta=80"], ["parameters.zeta", "75"]),
+    bad(
+        "terrain-release-on-a-cliff",
+        [
+            "run",
+            "terrain-bowl",
+            "--set",
+            "parameters.bowl_radius=50",
+            "--set",
+            "initial.polygon=[[300.0, -20.0], [360.0, -20.0], [360.0, 20.0], [300.0, 20.0]]",
+        ],
+        ["initial:", "steeper than 75 degrees"],
+    ),
 ]
 
 

@@ -36,6 +36,9 @@ SCENES_2D = [
     "burgers2d-shock",
     "sh2d-similarity",
     "sh2d-runout",
+    "terrain-plane-to-flat",
+    "terrain-channel",
+    "terrain-bowl",
 ]
 
 

@@ -18,6 +18,7 @@ import conslaw
 from conslaw.peak_fields import REACHED_DEPTH
 from conslaw.result2d import RunResult2D
 from conslaw.terrain import dem_from_function, write_dem
+from conslaw.terrain.hazard_maps import hazard_maps
 from conslaw_models.sliding_point import energy_line_stop, sliding_stop
 from conslaw_models.terrain_surface import PlaneToFlat
 
@@ -241,3 +242,51 @@ def test_a_thinner_release_stops_nearer_the_sliding_point() -> None:
         misfits.append(float(np.sum(depth.sum(axis=0) * x) / depth.sum()) - sliding)
     assert abs(misfits[0]) <= 3.0 and abs(misfits[0]) < abs(misfits[1])
     assert 90.0 <= line - sliding <= 110.0
+
+
+def test_an_animation_of_the_flow_depth_on_request(tmp_path: Path) -> None:
+    """``output.formats = [..., "gif"]``: ``flow_depth.gif``, one frame at the start and one
+    per output time, all of one size; a model without terrain refuses the format."""
+    from PIL import Image
+
+    conslaw.run_2d(
+        "terrain-bowl",
+        out=tmp_path,
+        n_cells=[20, 20],
+        t_end=20.0,
+        output_times=[10.0, 20.0],
+        output__formats=["npz", "gif"],
+    )
+    with Image.open(tmp_path / "flow_depth.gif") as animation:
+        assert animation.n_frames == 3
+    with pytest.raises(conslaw.ConfigError, match=r"output\.formats: 'gif'"):
+        conslaw.run_2d("sh2d-similarity", output__formats=["gif"])
+
+
+def test_a_thin_layer_is_neither_release_nor_reach(tmp_path: Path) -> None:
+    """A thin layer of 2 cm everywhere under the release: the run-out and travel angle are
+    those of the release (within a cell and half a degree of the run without the layer), not
+    of the whole domain."""
+    angles = []
+    for layer in (0.0, 0.02):
+        result = conslaw.run_2d(
+            "terrain-plane-to-flat",
+            n_cells=[50, 25],
+            output_times=[60.0],
+            initial__thin_layer=layer,
+        )
+        maps = hazard_maps(result)
+        assert maps is not None
+        angles.append((maps.summary["travel_angle_deg"], maps.summary["runout_length_m"]))
+    assert abs(angles[1][0] - angles[0][0]) <= 0.5
+    assert abs(angles[1][1] - angles[0][1]) <= 20.0
+
+
+def test_the_sliding_point_refuses_a_slope_it_never_leaves() -> None:
+    """On a plane steeper than delta a point never stops, and the energy line never meets
+    the profile: both say so instead of returning a place."""
+    plane = PlaneToFlat(40.0, 200.0, 1e9)
+    with pytest.raises(ValueError, match="does not stop"):
+        sliding_stop(plane, 0.0, math.tan(math.radians(30.0)), 9.81)
+    with pytest.raises(ValueError, match="does not meet the profile"):
+        energy_line_stop(plane, 0.0, math.tan(math.radians(30.0)))

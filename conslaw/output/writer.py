@@ -48,7 +48,7 @@ _TEMPORARY = re.compile(r"\.(.+)\.[^.]{8}\.tmp")
 _OWN_FILE = re.compile(
     rf"^({SERIES}(-(\d{{5}}|mesh)\.(h5|vtu|csv)|\.xdmf|\.pvd)"
     r"|states\.npz|margins\.csv|(profiles|margins|chute|xt|map|cuts)\.png|hazard\.json"
-    r"|(peak_depth|peak_speed|peak_pressure|deposit)\.(tif|png))$"
+    r"|(peak_depth|peak_speed|peak_pressure|deposit)\.(tif|png)|flow_depth\.gif)$"
 )
 
 

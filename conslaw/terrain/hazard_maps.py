@@ -10,6 +10,7 @@ A run has hazard maps when its model gives a terrain on the run's cells
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -17,11 +18,89 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from conslaw.peak_fields import REACHED_DEPTH, run_out
+from conslaw.grid2d import Grid2D
+from conslaw.peak_fields import REACHED_DEPTH
+from conslaw.terrain.animation import flow_depth_gif
 from conslaw.terrain.dem import DigitalElevationModel
 from conslaw.terrain.raster import geotiff_bytes
 
 Array = NDArray[np.float64]
+
+
+#: Speed (m/s) above which a cell of flow at least REACHED_DEPTH deep counts as moving at the
+#: end of a run (``moving_cells_at_end`` of hazard.json).
+MOVING_SPEED = 1e-3
+
+
+@dataclass(frozen=True)
+class RunOut:
+    """Where the flow went, on a straight line from the top of the release.
+
+        ``top``: the centroid of the highest released cells; ``end``: the reached cell (peak depth
+        at least :data:`~conslaw.peak_fields.REACHED_DEPTH` above the initial layer) farthest from
+        ``top`` along the direction from ``top`` to the deposit's centre of mass (of several equally
+    far, the one nearest that line); ``length``: the
+        horizontal distance from ``top`` to ``end``; ``drop``: the elevation of ``top`` above
+        ``end``; ``alpha``: the travel angle ``atan(drop / length)`` in degrees (Heim's
+        Fahrböschung; Lied & Bakkehøi 1980).
+    """
+
+    top: tuple[float, float]
+    end: tuple[float, float]
+    length: float
+    drop: float
+    alpha: float
+
+
+def run_out(
+    grid: Grid2D,
+    elevation: Array,
+    released: NDArray[np.bool_],
+    reached: NDArray[np.bool_],
+    deposit: Array,
+) -> RunOut | None:
+    """The run-out and travel angle of a run (:class:`RunOut`), or None if nothing was
+    released or reached or nothing is left.
+
+    Parameters
+    ----------
+    grid : Grid2D
+    elevation : numpy.ndarray
+        ``(ny, nx)`` terrain elevation at the cell centres, m.
+    released, reached : numpy.ndarray of bool
+        The released cells, and those the flow reached.
+    deposit : numpy.ndarray
+        ``(ny, nx)`` flow depth at the end, for the direction of travel.
+
+    Returns
+    -------
+    RunOut or None
+    """
+    if not released.any() or not reached.any() or not np.sum(deposit) > 0.0:
+        return None
+    x, y = grid.centres()
+    x_cells, y_cells = np.meshgrid(x, y)
+    highest = np.max(elevation[released])
+    tops = released & (elevation >= highest - 1e-9 * max(abs(highest), 1.0))
+    top = np.array([x_cells[tops].mean(), y_cells[tops].mean()])
+    z_top = float(np.mean(elevation[tops]))
+    weight = deposit / np.sum(deposit)
+    heading = np.array([np.sum(weight * x_cells), np.sum(weight * y_cells)]) - top
+    size = float(np.hypot(*heading))
+    if size == 0.0:
+        return None
+    heading /= size
+    along = (x_cells - top[0]) * heading[0] + (y_cells - top[1]) * heading[1]
+    across = np.abs((y_cells - top[1]) * heading[0] - (x_cells - top[0]) * heading[1])
+    farthest = np.max(along[reached])
+    # Of the reached cells equally far along, the one nearest the line of travel.
+    ends = reached & (along >= farthest - 1e-9 * max(abs(farthest), 1.0))
+    far = np.unravel_index(np.argmin(np.where(ends, across, np.inf)), along.shape)
+    end = (float(x_cells[far]), float(y_cells[far]))
+    length = float(np.hypot(end[0] - top[0], end[1] - top[1]))
+    drop = z_top - float(elevation[far])
+    alpha = math.degrees(math.atan2(drop, length)) if length > 0.0 else 90.0
+    return RunOut((float(top[0]), float(top[1])), end, length, drop, alpha)
 
 
 @dataclass(frozen=True)
@@ -66,7 +145,10 @@ def hazard_maps(result: Any) -> HazardMaps | None:
     initial_fields = model.flow_depth_and_speed(result.initial.q, peaks.aux)
     final_fields = model.flow_depth_and_speed(final.q, peaks.aux)
     assert initial_fields is not None and final_fields is not None
-    released = initial_fields[0] >= REACHED_DEPTH
+    # A layer everywhere at the start (a thin layer) is neither release nor reach.
+    layer = float(np.min(initial_fields[0]))
+    released = initial_fields[0] >= layer + REACHED_DEPTH
+    reached = peaks.depth >= layer + REACHED_DEPTH
     fields = [
         HazardField("peak_depth", peaks.depth, "peak flow depth (normal to the slope)", "m"),
         HazardField("peak_speed", peaks.speed, "peak speed", "m/s"),
@@ -81,8 +163,9 @@ def hazard_maps(result: Any) -> HazardMaps | None:
         )  # fmt: skip
     fields.append(HazardField("deposit", final_fields[0], f"flow depth at t = {final.t:g} s", "m"))
     elevation = np.asarray(dem.elevation)
-    reach = run_out(grid, elevation, released, peaks.depth)
+    reach = run_out(grid, elevation, released, reached, final_fields[0] - layer)
     area = grid.cell_area
+    moving = (final_fields[0] >= layer + REACHED_DEPTH) & (final_fields[1] > MOVING_SPEED)
     summary: dict[str, Any] = {
         "t_end": float(final.t),
         "reached_depth_m": REACHED_DEPTH,
@@ -90,9 +173,11 @@ def hazard_maps(result: Any) -> HazardMaps | None:
         "drop_m": None if reach is None else reach.drop,
         "travel_angle_deg": None if reach is None else reach.alpha,
         "runout_end_xy_m": None if reach is None else list(reach.end),
+        "release_top_xy_m": None if reach is None else list(reach.top),
         "volume_initial_m3": float(np.sum(result.initial.q[0]) * area),
         "volume_final_m3": float(np.sum(final.q[0]) * area),
-        "moving_cells_at_end": int(np.count_nonzero(final_fields[1])),
+        "moving_cells_at_end": int(np.count_nonzero(moving)),
+        "moving_speed_m_s": MOVING_SPEED,
         **{f"max_{field.stem}": float(np.max(field.values)) for field in fields},
     }
     return HazardMaps(dem, released, tuple(fields), summary)
@@ -129,8 +214,8 @@ def hazard_files(maps: HazardMaps, folder: Path, geotiff: bool) -> dict[Path, by
 
 def hazard_output_files(result: Any, folder: Path, formats: tuple[str, ...]) -> dict[Path, bytes]:
     """The hazard files of a finished run for its run folder (empty without hazard maps):
-    ``hazard.json``, and the GeoTIFFs if ``"geotiff"`` is in ``formats``
-    (:func:`hazard_files`).
+    ``hazard.json``, the GeoTIFFs if ``"geotiff"`` is in ``formats`` (:func:`hazard_files`),
+    and ``flow_depth.gif`` if ``"gif"`` is (:func:`~conslaw.terrain.animation.flow_depth_gif`).
 
     Parameters
     ----------
@@ -147,4 +232,7 @@ def hazard_output_files(result: Any, folder: Path, formats: tuple[str, ...]) -> 
     maps = hazard_maps(result)
     if maps is None:
         return {}
-    return hazard_files(maps, folder, "geotiff" in formats)
+    files = hazard_files(maps, folder, "geotiff" in formats)
+    if "gif" in formats:
+        files[folder / "flow_depth.gif"] = flow_depth_gif(result, maps.dem, maps.released)
+    return files

@@ -818,13 +818,11 @@ class JiangTadmorReference:
         if self.uses["balanced_source"]:
             new += dt * self._balanced_sources(predicted, aux)
         elif self.uses["source"]:
-            quarters = self._quarters[staggered]
-            quarter_aux = (
-                quarters[0][:, rows, columns],
-                quarters[1][:, rows, columns],
-                quarters[2][:, rows, columns],
-                quarters[3][:, rows, columns],
+            upper_right, upper_left, lower_right, lower_left = (
+                self._with_cell_coefficients(quarter[:, rows, columns], aux)
+                for quarter in self._quarters[staggered]
             )
+            quarter_aux = (upper_right, upper_left, lower_right, lower_left)
             parts = (predicted, slopes_x, slopes_y)
             add_quarter_terms(
                 self.model,
@@ -836,6 +834,18 @@ class JiangTadmorReference:
                 self._tangent_slopes(self.family_aux(not staggered)),
             )
         return self._finish(new, w, first, staggered, dt)
+
+    def _with_cell_coefficients(self, quarter: Array, cells: Array) -> Array:
+        """The static coefficients ``quarter`` of the source cells at one of their quarter
+        points, with the rows ``varying_aux_rows`` those ``cells`` took for the predictor: the
+        source of a quarter uses its cell's earth pressure (the terrain's pressure geometry),
+        not the static active one."""
+        rows = list(self.model.varying_aux_rows)
+        if not rows or not self.uses["dynamic_coefficients"]:
+            return quarter
+        mixed = quarter.copy()
+        mixed[rows] = cells[rows]
+        return mixed
 
     def _cell_coefficients(
         self, values: Array, slopes_x: Array, slopes_y: Array, aux: Array
