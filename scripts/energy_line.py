@@ -51,7 +51,7 @@ def main() -> None:
     print(
         "| release thickness (m) | aspect ratio | model x_c (m) | sliding point x_c (m) | "
         "model - sliding (m) | energy line x_c (m) | model - energy line (m) | "
-        "moving cells at t_end | run time (s) |"
+        "cells with momentum at t_end | run time (s) |"
     )
     print("|---|---|---|---|---|---|---|---|---|")
     for thickness in (float(v) for v in args.thickness.split(",")):
@@ -67,7 +67,7 @@ def main() -> None:
         x, _ = result.grid.centres()
         depth = result.states[-1].q[0]
         centre = float(np.sum(depth.sum(axis=0) * x) / depth.sum())
-        moving = int(np.count_nonzero(result.states[-1].q[1:]))
+        moving = int(np.count_nonzero(np.any(result.states[-1].q[1:] != 0.0, axis=0)))
         aspect = thickness / (RELEASE[1] - RELEASE[0])
         print(
             f"| {thickness:g} | {aspect:.3g} | {centre:.1f} | {sliding:.1f} | "

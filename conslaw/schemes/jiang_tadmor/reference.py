@@ -101,9 +101,18 @@ def _columns(array: Array) -> Array:
 
 def _window_extreme(values: Array, take_max: bool, width: int = 4) -> Array:
     """The largest (or smallest) value over every ``width`` x ``width`` block of ``values``
-    (last two axes)."""
-    blocks = np.lib.stride_tricks.sliding_window_view(values, (width, width), axis=(-2, -1))
-    return blocks.max(axis=(-2, -1)) if take_max else blocks.min(axis=(-2, -1))
+    (last two axes): the running extreme along the columns, then along the rows (the same
+    values as a reduction over each block, in ``2 (width - 1)`` whole-array operations)."""
+    pick = np.maximum if take_max else np.minimum
+    rows = values.shape[-2] - width + 1
+    columns = values.shape[-1] - width + 1
+    along = values[..., :, :columns]
+    for k in range(1, width):
+        along = pick(along, values[..., :, k : k + columns])
+    result = along[..., :rows, :]
+    for k in range(1, width):
+        result = pick(result, along[..., k : k + rows, :])
+    return result
 
 
 def _neighbour_range(u: Array, rows: slice, columns: slice, axis: int) -> tuple[Array, Array]:
