@@ -84,9 +84,19 @@ def _command_list(args: argparse.Namespace) -> int:
 def _command_show(args: argparse.Namespace) -> int:
     import tomli_w
 
-    from conslaw.scene2d import load_any_scene
+    from conslaw.scene2d import Scene2D, load_any_scene
 
     scene = load_any_scene(args.scene, _overrides(args.set))
+    # What a run would refuse before its first step (the initial data, the memory), said
+    # before the scene is printed as valid.
+    if isinstance(scene, Scene2D):
+        from conslaw.simulation2d import build_2d
+
+        build_2d(scene)
+    else:
+        from conslaw.simulation import build
+
+        build(scene)
     sys.stdout.write(tomli_w.dumps(scene.to_table()))
     return 0
 

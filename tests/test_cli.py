@@ -10,6 +10,7 @@ import tomllib
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 CONSLAW = shutil.which("conslaw") or ""
 
@@ -149,3 +150,28 @@ def test_python_dash_m_conslaw_is_the_command() -> None:
     )
     assert module.returncode == 0, module.stderr
     assert module.stdout == cli("list").stdout
+
+
+@pytest.mark.parametrize(
+    ("args", "fragment"),
+    [
+        (["show", "sh2d-similarity", "--set", "initial.radii=[0.01, 1]"], "initial.radii"),
+        (
+            ["show", "terrain-plane-to-flat", "--set",
+             "initial.polygon=[[1e6, 0.0], [2e6, 0.0], [2e6, 1.0]]"],
+            "initial.polygon",
+        ),
+        (["show", "sh-similarity", "--set", "initial.height=-1"], "initial"),
+    ],
+)  # fmt: skip
+def test_show_refuses_what_a_run_would_refuse_before_its_first_step(
+    args: list[str], fragment: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``conslaw show`` builds the initial data too: a scene it prints would start."""
+    from conslaw.cli import main
+
+    assert main(args) == 2
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    lines = captured.err.strip().splitlines()
+    assert len(lines) == 1 and fragment in lines[0], captured.err
