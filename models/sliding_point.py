@@ -34,7 +34,13 @@ def _profile(surface: TerrainSurface, x: float) -> tuple[float, float, float]:
     return float(values[0][0]), float(values[1][0]), float(values[3][0])
 
 
-def sliding_stop(surface: TerrainSurface, x0: float, tan_delta: float, gravity: float) -> float:
+def sliding_stop(
+    surface: TerrainSurface,
+    x0: float,
+    tan_delta: float,
+    gravity: float,
+    max_time: float = MAX_TIME,
+) -> float:
     """Where a point released at rest at ``x0`` on a profile descending toward +x stops.
 
     Parameters
@@ -47,6 +53,8 @@ def sliding_stop(surface: TerrainSurface, x0: float, tan_delta: float, gravity: 
         The Coulomb friction coefficient.
     gravity : float
         m/s^2.
+    max_time : float
+        The longest slide followed, s.
 
     Returns
     -------
@@ -56,7 +64,7 @@ def sliding_stop(surface: TerrainSurface, x0: float, tan_delta: float, gravity: 
     Raises
     ------
     ValueError
-        If the point does not stop within :data:`MAX_TIME`.
+        If the point does not stop within ``max_time``.
     """
     _, slope, _ = _profile(surface, x0)
     if -slope <= tan_delta:
@@ -74,11 +82,11 @@ def sliding_stop(surface: TerrainSurface, x0: float, tan_delta: float, gravity: 
     stopped.terminal = True  # type: ignore[attr-defined]
     stopped.direction = -1  # type: ignore[attr-defined]
     solution = solve_ivp(
-        rates, (0.0, MAX_TIME), [x0, 0.0], events=stopped, rtol=1e-10, atol=1e-10, max_step=MAX_STEP
+        rates, (0.0, max_time), [x0, 0.0], events=stopped, rtol=1e-10, atol=1e-10, max_step=MAX_STEP
     )
     if solution.status != 1:
         raise ValueError(
-            f"the point released at x = {x0:g} does not stop within {MAX_TIME:g} s (a slope "
+            f"the point released at x = {x0:g} does not stop within {max_time:g} s (a slope "
             "steeper than delta without end?)"
         )
     return float(solution.y[0, -1])

@@ -287,6 +287,6 @@ def test_the_sliding_point_refuses_a_slope_it_never_leaves() -> None:
     the profile: both say so instead of returning a place."""
     plane = PlaneToFlat(40.0, 200.0, 1e9)
     with pytest.raises(ValueError, match="does not stop"):
-        sliding_stop(plane, 0.0, math.tan(math.radians(30.0)), 9.81)
+        sliding_stop(plane, 0.0, math.tan(math.radians(30.0)), 9.81, max_time=60.0)
     with pytest.raises(ValueError, match="does not meet the profile"):
         energy_line_stop(plane, 0.0, math.tan(math.radians(30.0)))
