@@ -27,6 +27,16 @@ from conslaw.model import Model
 Array = NDArray[np.float64]
 
 
+#: The source cells ``a``, ``b``, ``c``, ``d`` of every new cell within the last two axes of an
+#: array of source cells (rows and columns).
+CORNERS = (
+    (Ellipsis, slice(None, -1), slice(None, -1)),
+    (Ellipsis, slice(None, -1), slice(1, None)),
+    (Ellipsis, slice(1, None), slice(None, -1)),
+    (Ellipsis, slice(1, None), slice(1, None)),
+)
+
+
 def corners(array: Array) -> tuple[Array, Array, Array, Array]:
     """The lower-left, lower-right, upper-left and upper-right source cells of every new cell.
 
@@ -40,7 +50,8 @@ def corners(array: Array) -> tuple[Array, Array, Array, Array]:
     tuple of numpy.ndarray
         Four views ``(..., rows - 1, columns - 1)``.
     """
-    return array[..., :-1, :-1], array[..., :-1, 1:], array[..., 1:, :-1], array[..., 1:, 1:]
+    a, b, c, d = (array[corner] for corner in CORNERS)
+    return a, b, c, d
 
 
 def resist(
@@ -109,9 +120,10 @@ def add_quarter_terms(
     parts : tuple of numpy.ndarray
         The predicted values and the slopes in x and in y of the source cells.
     quarter_aux : tuple of numpy.ndarray
-        The static coefficients of the source cells at the centres of their upper-right,
-        upper-left, lower-right and lower-left quarters (the quarter of ``a``, ``b``, ``c``,
-        ``d`` in the new cell is its upper-right, upper-left, lower-right, lower-left one).
+        The coefficients at the centres of the quarters in the new cells: the upper-right
+        quarter of ``a``, the upper-left of ``b``, the lower-right of ``c`` and the lower-left
+        of ``d`` (:data:`CORNERS` of the source cells' arrays), each ``(n_aux, rows,
+        columns)`` like ``new``.
     dt : float
         The time step.
     resistance : bool
@@ -121,13 +133,7 @@ def add_quarter_terms(
         (:func:`resist`).
     """
     quarters = _quarter_values(*parts)
-    upper_right, upper_left, lower_right, lower_left = quarter_aux
-    aux = [
-        upper_right[..., :-1, :-1],
-        upper_left[..., :-1, 1:],
-        lower_right[..., 1:, :-1],
-        lower_left[..., 1:, 1:],
-    ]
+    aux = quarter_aux
     shape = new.shape
     flat = [
         (q.reshape(shape[0], -1), a.reshape(a.shape[0], q[0].size))

@@ -78,7 +78,12 @@ from conslaw.schemes.jiang_tadmor.bed import (
     still_water_depth,
 )
 from conslaw.schemes.jiang_tadmor.constants import QUARTER_MARGIN, STILL, TINY
-from conslaw.schemes.jiang_tadmor.quarter_sources import add_quarter_terms, corners, resist
+from conslaw.schemes.jiang_tadmor.quarter_sources import (
+    CORNERS,
+    add_quarter_terms,
+    corners,
+    resist,
+)
 from conslaw.schemes.nessyahu_tadmor.constants import DEPTH_SLOPE_LIMIT, ROUND_OFF, THIN_TAIL
 
 Array = NDArray[np.float64]
@@ -828,8 +833,8 @@ class JiangTadmorReference:
             new += dt * self._balanced_sources(predicted, aux)
         elif self.uses["source"]:
             upper_right, upper_left, lower_right, lower_left = (
-                self._with_cell_coefficients(quarter[:, rows, columns], aux)
-                for quarter in self._quarters[staggered]
+                self._with_cell_coefficients(quarter[:, rows, columns][corner], aux[corner])
+                for quarter, corner in zip(self._quarters[staggered], CORNERS, strict=True)
             )
             quarter_aux = (upper_right, upper_left, lower_right, lower_left)
             parts = (predicted, slopes_x, slopes_y)
@@ -845,15 +850,14 @@ class JiangTadmorReference:
         return self._finish(new, w, first, staggered, dt)
 
     def _with_cell_coefficients(self, quarter: Array, cells: Array) -> Array:
-        """The static coefficients ``quarter`` of the source cells at one of their quarter
-        points, with the rows ``varying_aux_rows`` those ``cells`` took for the predictor: the
-        source of a quarter uses its cell's earth pressure (the terrain's pressure geometry),
-        not the static active one."""
+        """A contiguous copy of the static coefficients ``quarter`` of source cells at one of
+        their quarter points, with the rows ``varying_aux_rows`` those ``cells`` took for the
+        predictor: the source of a quarter uses its cell's earth pressure (the terrain's
+        pressure geometry), not the static active one."""
+        mixed = np.array(quarter, dtype=np.float64, order="C", copy=True)
         rows = list(self.model.varying_aux_rows)
-        if not rows or not self.uses["dynamic_coefficients"]:
-            return quarter
-        mixed = quarter.copy()
-        mixed[rows] = cells[rows]
+        if rows and self.uses["dynamic_coefficients"]:
+            mixed[rows] = cells[rows]
         return mixed
 
     def _cell_coefficients(
@@ -905,7 +909,7 @@ class JiangTadmorReference:
         chosen = model.corner_coefficients(a, b, c, d, _columns(statics[0]))
         fluxes_x, fluxes_y = [], []
         for q, own in zip(flat_states, statics, strict=True):
-            corner_aux = _columns(own).copy()
+            corner_aux = _columns(np.array(own, dtype=np.float64, order="C", copy=True))
             rows = list(model.varying_aux_rows)
             corner_aux[rows] = chosen[rows]
             fluxes_x.append(model.flux(q, corner_aux).reshape(shape))

@@ -1,0 +1,84 @@
+"""The numpy steps of the Savage–Hutter terrain model, timed, optionally against an older
+checkout interleaved (A B A B) (docs/performance.md, "Savage–Hutter on terrain").
+
+    python benchmarks/terrain_steps.py [--rounds 3] [--cells 200,100] [--t-end 10]
+        [--baseline-tree /path/to/old/checkout] [--json PATH]
+
+Each sample is a child process that runs ``terrain-plane-to-flat`` once small (the kernels
+from the cache) and then times one solve at ``--cells`` to ``--t-end`` seconds of flow (no
+output files). With ``--baseline-tree`` the baseline's children import ``conslaw`` from that
+tree (``PYTHONPATH``; the plugins ``conslaw_models`` stay the installed ones, so the two may
+differ only in ``conslaw/``), alternating with the current ones; the table gives the medians
+and the ratio current / baseline.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+
+CHILD = """
+import json, time, conslaw
+conslaw.run_2d("terrain-plane-to-flat", n_cells=[40, 20], output_times=[5.0])
+started = time.perf_counter()
+result = conslaw.run_2d(
+    "terrain-plane-to-flat", n_cells={cells}, t_end={t_end}, output_times=[{t_end}]
+)
+print(json.dumps({{"seconds": time.perf_counter() - started, "steps": result.steps}}))
+"""
+
+
+def sample(cells: list[int], t_end: float, tree: str | None) -> dict[str, float]:
+    """One timed solve in a child process (``tree``: the baseline's checkout)."""
+    environment = dict(os.environ)
+    if tree is not None:
+        environment["PYTHONPATH"] = tree
+    done = subprocess.run(
+        [sys.executable, "-c", CHILD.format(cells=cells, t_end=t_end)],
+        capture_output=True,
+        text=True,
+        check=True,
+        env=environment,
+    )
+    return dict(json.loads(done.stdout.strip().splitlines()[-1]))
+
+
+def main() -> None:
+    """Print the table (and write JSON with every sample if asked)."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument("--cells", default="200,100")
+    parser.add_argument("--t-end", type=float, default=10.0)
+    parser.add_argument("--baseline-tree", default=None)
+    parser.add_argument("--json", default=None)
+    args = parser.parse_args()
+    cells = [int(v) for v in args.cells.split(",")]
+    sides = ["current"] if args.baseline_tree is None else ["baseline", "current"]
+    samples: dict[str, list[dict[str, float]]] = {side: [] for side in sides}
+    for _ in range(args.rounds):
+        for side in sides:
+            tree = args.baseline_tree if side == "baseline" else None
+            samples[side].append(sample(cells, args.t_end, tree))
+    print("| side | steps | seconds per solve (each round) | median | cell updates / s |")
+    print("|---|---|---|---|---|")
+    medians = {}
+    for side in sides:
+        seconds = [s["seconds"] for s in samples[side]]
+        steps = int(samples[side][0]["steps"])
+        medians[side] = statistics.median(seconds)
+        rate = cells[0] * cells[1] * steps / medians[side]
+        listed = ", ".join(f"{v:.3f}" for v in seconds)
+        print(f"| {side} | {steps} | {listed} | {medians[side]:.3f} | {rate:.3g} |")
+    if "baseline" in medians:
+        print(f"\ncurrent / baseline: {medians['current'] / medians['baseline']:.2f}")
+    if args.json:
+        with open(args.json, "w") as out:
+            json.dump({"cells": cells, "t_end": args.t_end, "samples": samples}, out, indent=2)
+
+
+if __name__ == "__main__":
+    main()
