@@ -257,6 +257,12 @@ class SavageHutterTerrainParameters:
     channel_half_width: float = parameter(
         50.0, "`channel`: half-width w of the channel, depth D exp(-(y/w)^2), in m; > 0"
     )
+    dem_smoothing: float = parameter(
+        0.0,
+        "`dem`: standard deviation, in cells, of a Gaussian filter applied to the elevations "
+        "before the spline (the curvature terms read a DEM's noise over the cell size "
+        "squared); 0: none; in [0, 50]",
+    )
     dem_file: str = parameter(
         "", "`dem`: the elevation model, GeoTIFF or ESRI ASCII grid; relative to the scene file"
     )
@@ -271,7 +277,7 @@ class SavageHutterTerrainParameters:
         for name in (
             "gravity", "phi", "delta", "zeta", "bowl_radius", "transition_radius",
             "transition_end", "channel_depth", "channel_half_width", "density",
-            "dry_tolerance",
+            "dem_smoothing", "dry_tolerance",
         ):  # fmt: skip
             finite_number(getattr(self, name), f"parameters.{name}")
         if not self.gravity > 0:
@@ -293,6 +299,10 @@ class SavageHutterTerrainParameters:
         if not self.channel_half_width > 0:
             raise ConfigError(
                 f"parameters.channel_half_width: must be > 0 m, got {self.channel_half_width}"
+            )
+        if not 0.0 <= self.dem_smoothing <= 50.0:
+            raise ConfigError(
+                f"parameters.dem_smoothing: must be in [0, 50] cells, got {self.dem_smoothing}"
             )
         if not self.density > 0:
             raise ConfigError(f"parameters.density: must be > 0 kg/m^3, got {self.density}")
@@ -373,7 +383,7 @@ def make_surface(
         return ChannelledPlaneToFlat(profile, p.channel_depth, p.channel_half_width), None
     if p.terrain == "dem":
         dem = read_dem(p.dem_file, label="parameters.dem_file")
-        return GriddedSurface.from_dem(dem), dem
+        return GriddedSurface.from_dem(dem, p.dem_smoothing), dem
     return InclinedPlane(p.zeta), None
 
 

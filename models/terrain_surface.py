@@ -18,6 +18,7 @@ from typing import Protocol
 import numpy as np
 from numpy.typing import NDArray
 from scipy.interpolate import RectBivariateSpline
+from scipy.ndimage import gaussian_filter
 
 from conslaw.errors import ConfigError
 from conslaw.terrain.dem import DigitalElevationModel
@@ -241,16 +242,23 @@ class GriddedSurface:
         return None
 
     @classmethod
-    def from_dem(cls, dem: DigitalElevationModel) -> GriddedSurface:
-        """The spline through the cell centres of ``dem``.
+    def from_dem(cls, dem: DigitalElevationModel, smoothing: float = 0.0) -> GriddedSurface:
+        """The spline through the cell centres of ``dem``, after a Gaussian filter of
+        standard deviation ``smoothing`` cells (``scipy.ndimage.gaussian_filter``, the edges
+        continued by their nearest values) if it is above 0.
 
         Parameters
         ----------
         dem : DigitalElevationModel
+        smoothing : float
+            Cells; 0 for none.
 
         Returns
         -------
         GriddedSurface
         """
         x, y = dem.centres()
-        return cls(x, y, np.asarray(dem.elevation))
+        elevation = np.asarray(dem.elevation, dtype=np.float64)
+        if smoothing > 0.0:
+            elevation = gaussian_filter(elevation, smoothing, mode="nearest")
+        return cls(x, y, elevation)
