@@ -179,6 +179,45 @@ def corner_coefficients_point(a, b, c, d, aux, params):
     aux[KY] = lateral_coefficient(k_x, along_y, params[TAN_DELTA])
 
 
+def cap_options(
+    options: Mapping[str, Any],
+) -> tuple[tuple[float, float], tuple[float, float], float, float]:
+    """``(centre, radii, height, thin_layer)`` of an elliptic cap's initial options, checked:
+    two finite numbers each for ``centre`` and ``radii`` (radii > 0), ``height`` and
+    ``thin_layer`` finite and >= 0 (the ``cap`` of this model, the ``pile`` of the terrain
+    model).
+
+    Parameters
+    ----------
+    options : mapping
+
+    Returns
+    -------
+    tuple
+
+    Raises
+    ------
+    ConfigError
+        Naming the option.
+    """
+    pairs = []
+    for key in ("centre", "radii"):
+        pair = options[key]
+        if not isinstance(pair, list) or len(pair) != 2:
+            raise ConfigError(f"initial.{key}: expected a list of two numbers, got {pair!r}")
+        pairs.append(
+            (finite_number(pair[0], f"initial.{key}"), finite_number(pair[1], f"initial.{key}"))
+        )
+    height = finite_number(options["height"], "initial.height")
+    thin = finite_number(options["thin_layer"], "initial.thin_layer")
+    if min(pairs[1]) <= 0:
+        raise ConfigError(f"initial.radii: both must be > 0, got {options['radii']!r}")
+    for key, value in (("height", height), ("thin_layer", thin)):
+        if value < 0:
+            raise ConfigError(f"initial.{key}: must be >= 0, got {value!r}")
+    return pairs[0], pairs[1], height, thin
+
+
 def check_cap_resolved(cap: EllipticCap, grid: Grid2D) -> None:
     """Refuse a cap narrower than a cell in either direction: its cell averages (Gauss points on
     sub-cells) would lose or distort its volume, silently.
@@ -379,25 +418,13 @@ class SavageHutter2D(TwoEarthPressures, TwoDimensionalRows, DepthAveragedModel):
 
     def _cap(self, options: Mapping[str, Any], t_end: float) -> EllipticCap:
         """The similarity solution of the ``cap`` options (its axes integrated to ``t_end``)."""
-        values = {}
-        for key in ("centre", "radii"):
-            pair = options[key]
-            if not isinstance(pair, list) or len(pair) != 2:
-                raise ConfigError(f"initial.{key}: expected a list of two numbers, got {pair!r}")
-            values[key] = [finite_number(v, f"initial.{key}") for v in pair]
-        height = finite_number(options["height"], "initial.height")
-        thin = finite_number(options["thin_layer"], "initial.thin_layer")
-        if min(values["radii"]) <= 0:
-            raise ConfigError(f"initial.radii: both must be > 0, got {options['radii']!r}")
-        for key, value in (("height", height), ("thin_layer", thin)):
-            if value < 0:
-                raise ConfigError(f"initial.{key}: must be >= 0, got {value!r}")
+        centre, radii, height, _ = cap_options(options)
         zeta = self.chute.angle if isinstance(self.chute, PlaneChute) else 0.0
         tan_delta = math.tan(math.radians(self.params.delta))
         slope = math.sin(zeta) - tan_delta * math.cos(zeta)
         scale = self.params.epsilon * math.cos(zeta)
         return EllipticCap(
-            *values["centre"], *values["radii"], height,
+            *centre, *radii, height,
             scale * self.k_active, scale * self.k_y_active, slope, t_end,
         )  # fmt: skip
 

@@ -60,7 +60,7 @@ from conslaw_models.savage_hutter import (
     earth_pressure,
     velocity_change,
 )
-from conslaw_models.savage_hutter_2d import TwoEarthPressures, lateral_coefficient
+from conslaw_models.savage_hutter_2d import TwoEarthPressures, cap_options, lateral_coefficient
 from conslaw_models.terrain_geometry import pressure_geometry, projection, slope_cosine
 from conslaw_models.terrain_surface import (
     ChannelledPlaneToFlat,
@@ -551,18 +551,7 @@ class SavageHutterTerrain(TwoEarthPressures, TwoDimensionalRows, DepthAveragedMo
             return self._release(options, grid)
         if kind != "pile":
             return super().initial_cell_averages_2d(kind, options, grid)
-        values = {}
-        for key in ("centre", "radii"):
-            pair = options[key]
-            if not isinstance(pair, list) or len(pair) != 2:
-                raise ConfigError(f"initial.{key}: expected a list of two numbers, got {pair!r}")
-            values[key] = [finite_number(v, f"initial.{key}") for v in pair]
-        height = finite_number(options["height"], "initial.height")
-        thin = finite_number(options["thin_layer"], "initial.thin_layer")
-        for key, value in (("height", height), ("thin_layer", thin)):
-            if value < 0:
-                raise ConfigError(f"initial.{key}: must be >= 0, got {value!r}")
-        (x0, y0), (a, b) = values["centre"], values["radii"]
+        (x0, y0), (a, b), height, thin = cap_options(options)
         if a < grid.dx or b < grid.dy:
             raise ConfigError(
                 f"initial.radii: [{a:g}, {b:g}] is narrower than a cell (dx = {grid.dx:g}, dy = "
