@@ -7,7 +7,9 @@ A scene names only what it needs; :data:`DEFAULTS` fills the rest. Unknown keys 
 
 from __future__ import annotations
 
+import copy
 import dataclasses
+import functools
 import math
 import os
 import tomllib
@@ -267,9 +269,16 @@ def read_scene_file(path: Path) -> dict[str, Any]:
     text = scene_text(data, f"scene file '{path}'")
     _check_nesting(text, f"scene file '{path}'")
     try:
-        return tomllib.loads(text)
+        return copy.deepcopy(_parsed_toml(text))
     except tomllib.TOMLDecodeError as error:
         raise ConfigError(f"scene file '{path}' is not valid TOML: {error}") from None
+
+
+@functools.lru_cache(maxsize=64)
+def _parsed_toml(text: str) -> dict[str, Any]:
+    """The TOML document ``text``, parsed once per text (an ensemble reads its scene file once
+    per member); callers get a deep copy."""
+    return tomllib.loads(text)
 
 
 def scene_text(data: bytes, what: str) -> str:

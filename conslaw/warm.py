@@ -54,20 +54,38 @@ def warm(
 
 def _compile_scene(name: str) -> tuple[str, str, float]:
     """In a worker: compile what a run of scene ``name`` needs; (name, what, seconds)."""
-    from conslaw.config import load_scene
-    from conslaw.scene2d import Scene2D, load_any_scene
+    from conslaw.scene2d import load_any_scene
+
+    started = time.perf_counter()
+    label = compile_kernels(load_any_scene(name))
+    return name, label or "", time.perf_counter() - started
+
+
+def compile_kernels(
+    scene: Any, only_missing: bool = False, announce: Callable[[str], None] | None = None
+) -> str | None:
+    """Compile (or load from the cache) the kernels a run of ``scene`` (a loaded 1D or 2D
+    scene) needs, in this process; returns what was compiled (``nessyahu-tadmor kernels for
+    savage-hutter, phi > delta``), or None when ``only_missing`` and they are cached.
+    ``announce(label)`` is told before a compile starts."""
+    from conslaw.scene2d import Scene2D
     from conslaw.simulation import build, kernel_label
     from conslaw.simulation2d import build_2d
 
-    started = time.perf_counter()
-    scene_2d = load_any_scene(name)
-    if isinstance(scene_2d, Scene2D):
-        build_2d(scene_2d)[2].compile()
-        label = f"{scene_2d.scheme} kernels for {scene_2d.model}"
-        return name, label, time.perf_counter() - started
-    scene = load_scene(name)
-    model, _, scheme, initial, _ = build(scene)
-    scheme.compile(initial)
-    scheme.cell_coefficients(initial)  # the model's array kernels, used at every output
-    label = f"{scene.scheme} kernels for {kernel_label(scene, model)}"
-    return name, label, time.perf_counter() - started
+    if isinstance(scene, Scene2D):
+        scheme = build_2d(scene)[2]
+        label = f"{scene.scheme} kernels for {scene.model}"
+        initial = None
+    else:
+        model, _, scheme, initial, _ = build(scene)
+        label = f"{scene.scheme} kernels for {kernel_label(scene, model)}"
+    if only_missing and not scheme.needs_compile():
+        return None
+    if announce is not None:
+        announce(label)
+    if initial is None:
+        scheme.compile()
+    else:
+        scheme.compile(initial)
+        scheme.cell_coefficients(initial)  # the model's array kernels, used at every output
+    return label

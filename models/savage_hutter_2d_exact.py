@@ -25,7 +25,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.integrate import solve_ivp
 
 from conslaw.exact import Unavailable
 from conslaw.exact2d import gauss_average
@@ -76,6 +75,8 @@ class EllipticCap:
 
         # A failed integration (overflow on absurd axes) is reported below, not warned.
         with np.errstate(all="ignore"):
+            from scipy.integrate import solve_ivp  # on first use: every run loads this module
+
             solution = solve_ivp(
                 rates,
                 (0.0, self.t_end),

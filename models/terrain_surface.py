@@ -13,16 +13,17 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Protocol
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.interpolate import RectBivariateSpline
-from scipy.ndimage import gaussian_filter
 
 from conslaw.errors import ConfigError
 from conslaw.terrain.dem import DigitalElevationModel
 from conslaw.terrain.generated import plane_to_flat_profile
+
+if TYPE_CHECKING:
+    from scipy.interpolate import RectBivariateSpline
 
 Array = NDArray[np.float64]
 
@@ -205,6 +206,8 @@ class GriddedSurface:
             mode="reflect",
             reflect_type="odd",
         )
+        from scipy.interpolate import RectBivariateSpline  # on first use (a DEM scene)
+
         spline = RectBivariateSpline(
             _extended(self.y_centres), _extended(self.x_centres), elevation, s=0
         )
@@ -260,5 +263,7 @@ class GriddedSurface:
         x, y = dem.centres()
         elevation = np.asarray(dem.elevation, dtype=np.float64)
         if smoothing > 0.0:
+            from scipy.ndimage import gaussian_filter
+
             elevation = gaussian_filter(elevation, smoothing, mode="nearest")
         return cls(x, y, elevation)

@@ -37,8 +37,14 @@ from conslaw.errors import KernelCacheError
 _BEGIN = "# --- bindings ---"
 _END = "# --- end bindings ---"
 _loaded: dict[str, ModuleType] = {}
+#: The name of the module each request of this process got (:func:`_request_key`): a second
+#: scheme of the same kind (an ensemble's next member) skips reading and hashing the sources.
+_generated: dict[tuple[Any, ...], str] = {}
 #: One thread at a time writes and imports a generated module (and fills ``_loaded``).
 _lock = threading.RLock()
+#: One thread at a time parses a template (CPython 3.11's ``ast`` keeps a recursion counter that
+#: concurrent parses corrupt: "AST constructor recursion depth mismatch").
+_parse_lock = threading.Lock()
 
 
 def cache_dir() -> Path:
@@ -224,7 +230,9 @@ def _template_imports(text: str) -> dict[str, Any]:
     head, _, rest = text.partition(_BEGIN)
     _, _, tail = rest.partition(_END)
     objects: dict[str, Any] = {}
-    for node in ast.parse(head + tail).body:
+    with _parse_lock:  # CPython 3.11's ast is not thread-safe ("recursion depth mismatch")
+        tree = ast.parse(head + tail)
+    for node in tree.body:
         if not isinstance(node, ast.ImportFrom) or not node.module or node.level != 0:
             continue
         if node.module.split(".")[0] in ("numpy", "numba", "llvmlite"):
@@ -314,6 +322,52 @@ def generate(
     """
     imports = dict(imports or {})
     path = Path(template).resolve()
+    jit = "nojit" if getattr(numba.config, "DISABLE_JIT", False) else "jit"
+    asked = _request_key(path, bindings, constants, imports, jit)
+    with _lock:
+        known = _generated.get(asked) if asked is not None else None
+        if known is not None and known in _loaded:
+            return _loaded[known]
+    module = _generate(path, bindings, constants, imports, jit)
+    if asked is not None:
+        with _lock:
+            _generated[asked] = module.__name__
+    return module
+
+
+def _request_key(
+    path: Path,
+    bindings: Mapping[str, Callable[..., Any]],
+    constants: Mapping[str, bool | int | float] | None,
+    imports: Mapping[str, ModuleType],
+    jit: str,
+) -> tuple[Any, ...] | None:
+    """What a call of :func:`generate` asked for, as a key of this process's memo (the bound
+    functions themselves, not their names: a function redefined in this process is another
+    request); None if a binding cannot be a key."""
+    key = (
+        str(path),
+        jit,
+        tuple(sorted(bindings.items(), key=lambda item: item[0])),
+        tuple(sorted((constants or {}).items())),
+        tuple(sorted((name, module.__name__) for name, module in imports.items())),
+    )
+    try:
+        hash(key)
+    except TypeError:
+        return None
+    return key
+
+
+def _generate(
+    path: Path,
+    bindings: Mapping[str, Callable[..., Any]],
+    constants: Mapping[str, bool | int | float] | None,
+    imports: Mapping[str, ModuleType],
+    jit: str,
+) -> ModuleType:
+    """:func:`generate` without the memo: the module's text, its name from the text and the
+    sources it depends on, then the module written (once) and imported."""
     text = path.read_text()
     for name, module in sorted(imports.items()):
         text = text.replace(f"from {name} import", f"from {module.__name__} import")
@@ -336,8 +390,7 @@ def generate(
     # imported kernels is another family (and is not pruned as a stale copy of this one).
     imported = [f"{name}={module.__kernel_family__}" for name, module in sorted(imports.items())]
     # Without the JIT (NUMBA_DISABLE_JIT) nothing is compiled and the dependencies are unknown: a
-    # family of its own, so that it never prunes the compiled modules.
-    jit = "nojit" if getattr(numba.config, "DISABLE_JIT", False) else "jit"
+    # family of its own (``jit``), so that it never prunes the compiled modules.
     identity = hashlib.sha256("\0".join([package_path(path), jit, *statements, *imported]).encode())
     digest = hashlib.sha256("\0".join([body, *dependency_sources(roots)]).encode())
     family = f"conslaw_kernel_{path.parent.name}_{path.stem}_{identity.hexdigest()[:12]}"

@@ -14,6 +14,11 @@ import tomli_w
 
 from conslaw.errors import ConfigError
 
+try:
+    import fcntl
+except ImportError:  # Windows: no advisory locks; outputs are written unlocked
+    fcntl = None  # type: ignore[assignment]
+
 
 def _file_mode() -> int:
     """The mode ``open`` gives a new file: ``0o666`` less the process's umask (read once: a
@@ -158,3 +163,29 @@ def write_figure(path: Path, figure: Any) -> Path:
     buffer = io.BytesIO()
     figure.savefig(buffer, format="png", dpi=120)
     return atomic_write_bytes(path, buffer.getvalue())
+
+
+def hold_folder(folder: Path, holder: str = "conslaw run") -> int | None:
+    """Hold ``folder`` for one writer: an advisory lock (``flock``) on it; returns the open
+    descriptor to close when done (None where there is no lock: no ``flock`` on this system or
+    file system, or a folder that cannot be opened). A folder another writer holds, in this
+    process or another, is a ConfigError naming it and ``holder``, before anything is written
+    (docs/output.md, "Nothing lost")."""
+    if fcntl is None or not Path(folder).is_dir():
+        return None
+    try:
+        handle = os.open(folder, os.O_RDONLY)
+    except OSError:
+        return None  # not readable, or gone: prepare_output_dir reports what matters
+    try:
+        fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        os.close(handle)
+        raise ConfigError(
+            f"output folder '{folder}' is being written by another {holder}; wait for it to "
+            "end or choose another output folder"
+        ) from None
+    except OSError:  # no flock here (some network file systems): unlocked
+        os.close(handle)
+        return None
+    return handle

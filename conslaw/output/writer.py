@@ -15,16 +15,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from conslaw.errors import ConfigError, OutputError
-
-try:
-    import fcntl
-except ImportError:  # Windows: no advisory locks, a folder is not claimed
-    fcntl = None  # type: ignore[assignment]
-
 from conslaw import signals
+from conslaw.errors import OutputError
 from conslaw.output.fields import SERIES, cell_fields, mesh_points_cells, output_field_data
-from conslaw.output.files import OutputCommit, prepare_output_dir, toml_bytes
+from conslaw.output.files import OutputCommit, hold_folder, prepare_output_dir, toml_bytes
 from conslaw.output.npz import states_bytes
 from conslaw.output.tables import fields_csv, margins_csv_bytes
 from conslaw.output.vtu import pvd_document, vtu_bytes
@@ -93,22 +87,10 @@ class RunWriter:
         it makes it): an advisory lock (``flock``) on the folder, released by :meth:`release`,
         :meth:`finish` or the end of the process. A folder another run holds, in this process or
         another, is a ConfigError naming it, before anything is written (docs/output.md)."""
-        if self._claim is not None or fcntl is None or not self.folder.is_dir():
+        if self._claim is not None:
             return
-        try:
-            handle = os.open(self.folder, os.O_RDONLY)
-        except OSError:
-            return  # not readable, or gone: prepare_output_dir reports what matters
-        try:
-            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            os.close(handle)
-            raise ConfigError(
-                f"output folder '{self.folder}' is being written by another conslaw run; "
-                "wait for it to end or choose another output folder"
-            ) from None
-        except OSError:  # no flock here (some network file systems): run unlocked
-            os.close(handle)
+        handle = hold_folder(self.folder)
+        if handle is None:
             return
         self._claim = handle
         # Closed when the writer is dropped without release() (a failed run in a notebook).

@@ -10,37 +10,38 @@ a map over a hillshade (:mod:`~conslaw.terrain.hazard_figure`). Arrays are ``(ny
 
 from __future__ import annotations
 
-from conslaw.terrain.dem import DigitalElevationModel, dem_from_function, read_dem, write_dem
-from conslaw.terrain.generated import (
-    bowl,
-    bowl_radius,
-    channelled_slope,
-    inclined_plane_to_flat,
-    plane_to_flat_profile,
-)
-from conslaw.terrain.hazard_figure import hazard_map_figure, hillshade, nice_contour_interval
-from conslaw.terrain.hazard_geotiff import write_field_geotiff
-from conslaw.terrain.release import release_mask, release_polygon_mask, release_thickness
-from conslaw.terrain.slope import elevation_gradient, slope_angle, slope_cosine
+import importlib
+from typing import Any
 
-__all__ = [
-    "DigitalElevationModel",
-    "bowl",
-    "bowl_radius",
-    "channelled_slope",
-    "dem_from_function",
-    "elevation_gradient",
-    "hazard_map_figure",
-    "hillshade",
-    "inclined_plane_to_flat",
-    "nice_contour_interval",
-    "plane_to_flat_profile",
-    "read_dem",
-    "release_mask",
-    "release_polygon_mask",
-    "release_thickness",
-    "slope_angle",
-    "slope_cosine",
-    "write_dem",
-    "write_field_geotiff",
-]
+#: Where each name of the package lives; a submodule is imported on first use of one of its
+#: names (PEP 562), so that importing one of them (the terrain model imports the DEM reader at
+#: every run) does not import matplotlib or pyogrio with the others.
+_HOMES = {
+    "DigitalElevationModel": "dem",
+    "dem_from_function": "dem",
+    "read_dem": "dem",
+    "write_dem": "dem",
+    "bowl": "generated",
+    "bowl_radius": "generated",
+    "channelled_slope": "generated",
+    "inclined_plane_to_flat": "generated",
+    "plane_to_flat_profile": "generated",
+    "hazard_map_figure": "hazard_figure",
+    "hillshade": "hazard_figure",
+    "nice_contour_interval": "hazard_figure",
+    "write_field_geotiff": "hazard_geotiff",
+    "release_mask": "release",
+    "release_polygon_mask": "release",
+    "release_thickness": "release",
+    "elevation_gradient": "slope",
+    "slope_angle": "slope",
+    "slope_cosine": "slope",
+}
+
+__all__ = sorted(_HOMES)
+
+
+def __getattr__(name: str) -> Any:
+    if name not in _HOMES:
+        raise AttributeError(f"module 'conslaw.terrain' has no attribute {name!r}")
+    return getattr(importlib.import_module(f"conslaw.terrain.{_HOMES[name]}"), name)

@@ -12,8 +12,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-import pyogrio
-import pyogrio.raw
 import shapely
 
 from conslaw.errors import ConfigError
@@ -64,6 +62,11 @@ def read_polygons(path: Path, where: str) -> Polygons:
     kind = POLYGON_FORMATS[path.suffix.lower()]
     check_input_file(path, where)
     try:
+        # pyogrio (and the pandas it imports) only when a polygon file is read: every run
+        # loads this module with the terrain model.
+        import pyogrio
+        import pyogrio.raw
+
         layers = pyogrio.list_layers(path)
         if len(layers) == 1:
             meta, _, wkb, _ = pyogrio.raw.read(path, force_2d=True)
