@@ -416,6 +416,173 @@ def _command_warm(args: argparse.Namespace) -> int:
     return 0
 
 
+def _thresholds(pairs: Sequence[str]) -> dict[str, float]:
+    from conslaw.errors import ConfigError
+
+    chosen: dict[str, float] = {}
+    for pair in pairs:
+        name, separator, value = pair.partition("=")
+        try:
+            chosen[name.strip()] = float(value)
+        except ValueError:
+            separator = ""
+        if not separator or not name.strip():
+            raise ConfigError(f"--threshold expects FIELD=NUMBER (peak_depth=1.0), got '{pair}'")
+    return chosen
+
+
+def _command_ensemble(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from conslaw.ensemble import StudyInterrupted, run_study
+    from conslaw.ensemble.products import quantile_table, rank_correlations, write_products
+    from conslaw.errors import ConfigError
+
+    thresholds = _thresholds(args.threshold)
+    if thresholds and not args.fields:
+        raise ConfigError("--threshold needs the members' maps: add --fields")
+    out = _out_folder(args.out, Path("conslaw-output") / f"ensemble-{Path(args.scene).stem}")
+    options = {
+        "fields": args.fields, "depth_threshold": args.depth_threshold, "format": args.format,
+        "scheduler": args.scheduler, "workers": args.workers, "resume": args.resume,
+    }  # fmt: skip
+    try:
+        study = run_study(
+            args.scene, args.vary, args.samples, out, design=args.design, seed=args.seed,
+            settings=_overrides(args.set), options=options,
+            report=lambda line: print(f"conslaw: {line}", flush=True),
+        )  # fmt: skip
+    except StudyInterrupted as interrupted:
+        sys.stderr.write(f"conslaw: {interrupted}\n")
+        return 128 + interrupted.signal_number
+    dataset = study.dataset
+    counts = {str(s): int((dataset.status.values == s).sum()) for s in set(dataset.status.values)}
+    print(", ".join(f"{count} {status}" for status, count in sorted(counts.items())))
+    print(f"{study.ran} members run in {study.wall_seconds:.1f} s on {study.workers} workers")
+    for name, count, low, mid, high in quantile_table(dataset):
+        print(f"  {name}: 5% {low:.4g}, median {mid:.4g}, 95% {high:.4g} ({count} members)")
+    resting = int(np.sum(dataset["at_rest"].values == 1.0))
+    print(f"  {resting} members at rest at the end (every momentum exactly 0)")
+    cut = int(np.sum(dataset["at_boundary"].values == 1.0))
+    if cut:
+        print(f"  {cut} members reached an end of the domain: their run-out is cut short")
+    correlations = rank_correlations(dataset)
+    for figure in ("runout_length", "travel_angle"):
+        if figure in correlations["figure"]:
+            row = correlations.sel(figure=figure)
+            text = ", ".join(
+                f"{p} {float(row.sel(parameter=p)):+.2f}".replace("+nan", "n/a")
+                for p in row["parameter"].values
+            )
+            print(f"  rank correlation of {figure} with {text}")
+    files = [study.path, *write_products(dataset, out, thresholds, plot=not args.no_plot)]
+    for path in files:
+        print(f"  wrote {path}")
+    failed = [i for i, s in enumerate(dataset.status.values) if s != "finished"]
+    for index in failed[:5]:
+        print(f"  member {index} {dataset.status.values[index]}: {dataset.message.values[index]}")
+    return 0
+
+
+def _add_ensemble(commands: Any) -> None:
+    from conslaw.ensemble.dataset import FORMATS
+    from conslaw.ensemble.design import DESIGNS, DISTRIBUTIONS
+
+    study = commands.add_parser(
+        "ensemble", help="run many members of a scene with varied keys; one labelled dataset"
+    )
+    study.add_argument("scene", help="built-in scene name or path to a .toml file")
+    kinds = ", ".join(f"{name}:{args}" for name, args in DISTRIBUTIONS.items())
+    study.add_argument(
+        "--vary", action="append", required=True, metavar="KEY=DISTRIBUTION:ARGS",
+        help=f"a varied scene key, e.g. parameters.delta=uniform:20:30 ({kinds})",
+    )  # fmt: skip
+    study.add_argument("--samples", type=int, required=True, help="members")
+    study.add_argument("--design", default="lhs", choices=DESIGNS, help="sample design (lhs)")
+    study.add_argument("--seed", type=int, default=0, help="the same seed, the same members")
+    study.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+    study.add_argument("--out", help="study folder (default conslaw-output/ensemble-SCENE)")
+    study.add_argument("--resume", action="store_true", help="run only the missing members")
+    study.add_argument("--fields", action="store_true", help="keep every member's maps")
+    study.add_argument(
+        "--threshold", action="append", default=[], metavar="FIELD=VALUE",
+        help="exceedance probability of a map, e.g. peak_depth=1.0 (needs --fields)",
+    )  # fmt: skip
+    study.add_argument("--format", default="netcdf", choices=list(FORMATS), help="dataset format")
+    study.add_argument("--scheduler", help="a Dask scheduler address, e.g. tcp://host:8786")
+    study.add_argument("--workers", type=int, help="local processes (default: one per core)")
+    study.add_argument("--depth-threshold", type=float, help="covered depth, 1D figures")
+    study.add_argument("--no-plot", action="store_true", help="no figures")
+
+
+def _command_calibrate(args: argparse.Namespace) -> int:
+    from conslaw.ensemble.calibration import calibrate
+
+    out = _out_folder(args.out, Path("conslaw-output") / f"calibrate-{Path(args.scene).stem}")
+    options = {
+        "scheduler": args.scheduler, "workers": args.workers, "coarse": args.coarse,
+        "plot": not args.no_plot,
+    }  # fmt: skip
+    result = calibrate(
+        args.scene, args.observed, args.fit, settings=_overrides(args.set),
+        tolerance=args.tolerance, seed=args.seed, out=out, options=options,
+        report=lambda line: print(f"conslaw: {line}", flush=True),
+    )  # fmt: skip
+    for key in result.keys:
+        error = result.standard_error[key.key]
+        print(f"{key.key} = {result.fitted[key.key]:.6g} ± {error:.2g} (standard error; start "
+              f"{key.start:g}, bounds {key.low:g}:{key.high:g})")  # fmt: skip
+    best = result.best
+    for observation in result.observations:
+        if observation.deposit is None:
+            print(f"  {observation.name}: model {best.figures[observation.name]:.6g}, observed "
+                  f"{observation.value:.6g} ± {observation.sigma:.2g}")  # fmt: skip
+    uncertainty = result.uncertainty
+    print(
+        f"misfit {result.misfit:.4g}; {len(result.evaluations)} members in "
+        f"{result.wall_seconds:.1f} s, {result.failed} failed ({uncertainty.failed} of the "
+        f"{uncertainty.members} uncertainty members)"
+    )
+    for note in result.notes:
+        print(f"  note: {note}")
+    for path in result.files:
+        print(f"  wrote {path}")
+    return 0
+
+
+def _add_calibrate(commands: Any) -> None:
+    from conslaw.ensemble.fitting import COARSE_PER_KEY
+    from conslaw.ensemble.observations import RELATIVE_ERROR
+
+    fit = commands.add_parser(
+        "calibrate", help="fit scene keys to observed figures (run-out, travel angle, deposit)"
+    )
+    fit.add_argument("scene", help="built-in scene name or path to a .toml file")
+    fit.add_argument(
+        "--observed", action="append", default=[], metavar="NAME=VALUE",
+        help="an observed summary figure, e.g. runout_length=33.67, or deposit=FILE (1D: CSV "
+        "of x, depth; 2D: GeoTIFF or ESRI ASCII grid)",
+    )  # fmt: skip
+    fit.add_argument(
+        "--fit", action="append", default=[], metavar="KEY=LOW:HIGH",
+        help="a fitted scene key and its bounds, e.g. parameters.delta=20:35; it starts from "
+        "the scene's value",
+    )  # fmt: skip
+    fit.add_argument(
+        "--tolerance", action="append", default=[], metavar="NAME=SIGMA",
+        help=f"standard error of an observation (default {RELATIVE_ERROR:g} of its magnitude)",
+    )  # fmt: skip
+    fit.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+    fit.add_argument("--seed", type=int, default=0, help="the same seed, the same calibration")
+    fit.add_argument(
+        "--coarse", type=int, help=f"members of the coarse stage ({COARSE_PER_KEY} per key)"
+    )
+    fit.add_argument("--out", help="output folder (default conslaw-output/calibrate-SCENE)")
+    fit.add_argument("--scheduler", help="a Dask scheduler address, e.g. tcp://host:8786")
+    fit.add_argument("--workers", type=int, help="local processes (default: one per core)")
+    fit.add_argument("--no-plot", action="store_true", help="no calibration.png")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser (exposed for the documentation)."""
     parser = _Parser(prog="conslaw", description="Hyperbolic conservation laws in 1D.")
@@ -480,6 +647,8 @@ def build_parser() -> argparse.ArgumentParser:
     )
     versus.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     versus.add_argument("--out", help="output folder (default conslaw-output/compare)")
+    _add_ensemble(commands)
+    _add_calibrate(commands)
     return parser
 
 
@@ -495,6 +664,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         "reproduce": _command_reproduce,
         "compare": _command_compare,
         "warm": _command_warm,
+        "ensemble": _command_ensemble,
+        "calibrate": _command_calibrate,
     }
     try:
         with warnings.catch_warnings():

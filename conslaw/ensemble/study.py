@@ -1,0 +1,443 @@
+"""An ensemble study from start to dataset: draw the members, check every one before anything
+runs, run them on an engine, keep each as it finishes, write the labelled dataset
+(docs/ensembles.md).
+
+``conslaw ensemble`` and :func:`run_study` are the same study.
+"""
+
+from __future__ import annotations
+
+import collections
+import contextlib
+import json
+import math
+import threading
+import time
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from conslaw import signals
+from conslaw.ensemble.dataset import build_dataset, check_format, write_dataset
+from conslaw.ensemble.design import Variation, draw, parse_variation
+from conslaw.ensemble.engine import DaskEngine, LocalEngine, WorkerLostError, engine_for
+from conslaw.ensemble.member import MemberOutcome, MemberTask
+from conslaw.ensemble.store import StudyFolder, StudySpec
+from conslaw.errors import ConfigError, ConslawError
+
+if TYPE_CHECKING:
+    import xarray
+
+Array = NDArray[np.float64]
+
+#: Scene keys that change the grid: members varying them have no common map.
+GRID_KEYS = ("n_cells", "x_min", "x_max", "y_min", "y_max")
+#: Times a local pool may be restarted after its workers died without any member finishing.
+RESTARTS = 3
+#: Wall time one batch of members should keep a worker busy (short members go in batches: one
+#: message each way per batch instead of per member), and the largest batch.
+BATCH_SECONDS = 0.2
+MAX_BATCH = 64
+#: Batches in flight per worker (one running, the next waiting in the queue).
+IN_FLIGHT_PER_WORKER = 2
+
+
+class StudyInterrupted(ConslawError):  # noqa: N818 (named like RunInterrupted)
+    """A study stopped by a signal; every finished member is kept (``--resume`` finishes it)."""
+
+    def __init__(self, kept: int, total: int, folder: Path, signal_number: int) -> None:
+        self.signal_number = signal_number
+        super().__init__(
+            f"interrupted: {kept} of {total} members kept in '{folder}'; run the same "
+            "command with --resume to finish the study"
+        )
+
+
+@dataclass
+class StudyResult:
+    """What a study produced.
+
+    Attributes
+    ----------
+    dataset : xarray.Dataset
+        The labelled dataset (:func:`conslaw.ensemble.dataset.build_dataset`).
+    path : Path
+        Where it was written.
+    ran : int
+        Members run by this call (not those a resumed study had already).
+    wall_seconds : float
+        This call's time from the first member submitted to the last received.
+    workers : int
+        Worker processes the engine had.
+    files : list of Path
+        The products written besides the dataset.
+    """
+
+    dataset: xarray.Dataset
+    path: Path
+    ran: int
+    wall_seconds: float
+    workers: int
+    files: list[Path] = field(default_factory=list)
+
+
+def _scene_value(variation: Variation, value: float) -> float | int:
+    """A member's value as the scene takes it: a whole number listed by ``choice`` stays an
+    integer (``max_steps=choice:1000,100000``), every other value is a float."""
+    if variation.kind == "choice" and float(value).is_integer():
+        return int(value)
+    return float(value)
+
+
+def member_tasks(spec: StudySpec, variations: Sequence[Variation], values: Array) -> list[Any]:
+    """Every member's task, each checked as ``conslaw run`` would check its scene; the first
+    member that cannot run is a ConfigError naming it, its values and the key."""
+    from conslaw.scene2d import Scene2D, load_any_scene
+
+    tasks, dimension = [], 0
+    for index, row in enumerate(values):
+        varied = {v.key: _scene_value(v, value) for v, value in zip(variations, row, strict=True)}
+        overrides = {**spec.settings, **varied}
+        try:
+            scene = load_any_scene(spec.scene, overrides)
+        except ConfigError as error:
+            shown = ", ".join(f"{key}={value:.6g}" for key, value in varied.items())
+            raise ConfigError(f"member {index} ({shown}): {error}") from None
+        dimension = 2 if isinstance(scene, Scene2D) else 1
+        tasks.append(
+            (MemberTask(index, spec.scene, overrides, spec.fields, spec.depth_threshold), scene)
+        )
+    spec.extra["dimension"] = dimension
+    if tasks:
+        names = tasks[0][1].model_instance().long_names
+        spec.extra["axes"] = {axis: names.get(axis, axis) for axis in ("x", "y")}
+    return tasks
+
+
+def _check_fields(spec: StudySpec, variations: Sequence[Variation]) -> None:
+    grid = [v.key for v in variations if v.key in GRID_KEYS]
+    if spec.fields and grid:
+        raise ConfigError(
+            f"--fields: the members' maps need one grid, but {', '.join(grid)} varies"
+        )
+
+
+def _warm(scenes: Sequence[Any], report: Callable[[str], None]) -> None:
+    """Compile in this process the kernels the members need that are not cached yet, one
+    member per kernel family, so that the workers load them from the cache instead of each
+    compiling them."""
+    from conslaw.scene2d import Scene2D
+    from conslaw.simulation import kernel_label
+    from conslaw.warm import compile_kernels
+
+    families: dict[str, Any] = {}
+    for scene in scenes:
+        if isinstance(scene, Scene2D):
+            label = scene.model
+        else:
+            label = kernel_label(scene, scene.model_instance())
+        families.setdefault(f"{scene.scheme}/{label}", scene)
+    for scene in families.values():
+        compile_kernels(
+            scene, only_missing=True,
+            announce=lambda label: report(f"compiling the {label} (first run of them only)"),
+        )  # fmt: skip
+
+
+class _Progress:
+    """Lines saying how far the study is (at most one per ``every`` seconds)."""
+
+    def __init__(self, total: int, done: int, report: Callable[[str], None]) -> None:
+        self.total, self.done, self.report = total, done, report
+        self.failed = 0
+        self.started = time.monotonic()
+        self.last = self.started
+        self.ran = 0
+
+    def __call__(self, outcome: MemberOutcome, every: float = 5.0) -> None:
+        self.done += 1
+        self.ran += 1
+        self.failed += outcome.status != "finished"
+        now = time.monotonic()
+        if now - self.last < every and self.done < self.total:
+            return
+        self.last = now
+        elapsed = now - self.started
+        left = (self.total - self.done) * elapsed / self.ran
+        failed = f", {self.failed} did not finish" if self.failed else ""
+        self.report(
+            f"members: {self.done} of {self.total} done{failed}, {elapsed:.1f} s"
+            + (f", about {left:.0f} s left" if self.done < self.total else "")
+        )
+
+
+class _Batches:
+    """The members not yet sent, in batches sized so that one batch keeps a worker busy for
+    about :data:`BATCH_SECONDS` (from the members' times so far; one member per batch until
+    the first come back, and for a member retried alone after its batch lost a worker)."""
+
+    def __init__(self, tasks: Sequence[MemberTask]) -> None:
+        self.queue: collections.deque[MemberTask] = collections.deque(tasks)
+        self.alone: set[int] = set()
+        self.seconds: list[float] = []
+
+    def size(self) -> int:
+        if not self.seconds:
+            return 1
+        typical = float(np.median(self.seconds[-200:]))
+        return int(min(max(BATCH_SECONDS / max(typical, 1e-6), 1), MAX_BATCH))
+
+    def next(self) -> list[MemberTask]:
+        batch = [self.queue.popleft()]
+        while self.queue and len(batch) < self.size() and batch[0].index not in self.alone:
+            if self.queue[0].index in self.alone:
+                break
+            batch.append(self.queue.popleft())
+        return batch
+
+    def put_back(self, batch: Sequence[MemberTask], alone: bool) -> None:
+        """Members to send again (first), each alone if ``alone``."""
+        if alone:
+            self.alone.update(task.index for task in batch)
+        self.queue.extendleft(reversed(batch))
+
+
+def _execute(
+    engine: LocalEngine | DaskEngine,
+    tasks: Sequence[MemberTask],
+    keep: Callable[[MemberOutcome], None],
+) -> None:
+    """Run ``tasks`` on ``engine`` in batches, a few per worker in flight at a time, ``keep``
+    each outcome once as it arrives. A local pool whose worker died is restarted and the lost
+    batches sent again; on Dask a batch whose workers kept dying is sent again one member at
+    a time, and such a member alone is failed."""
+    batches = _Batches(tasks)
+    flying: dict[Any, list[MemberTask]] = {}
+    kept: set[int] = set()
+    restarts = 0
+    while batches.queue or flying:
+        window = IN_FLIGHT_PER_WORKER * max(engine.workers, 1)
+        while batches.queue and len(flying) < window:
+            batch = batches.next()
+            flying[engine.submit_batch(batch)] = batch
+        lost: list[MemberTask] = []
+        for future in engine.wait_any(flying):
+            batch = flying.pop(future)
+            try:
+                outcomes = engine.outcome(future)
+            except WorkerLostError as error:
+                if isinstance(engine, LocalEngine):
+                    lost.extend(batch)
+                    continue
+                if len(batch) > 1:
+                    batches.put_back(batch, alone=True)
+                    continue
+                outcomes = [MemberOutcome(batch[0].index, "failed", str(error), {}, "",
+                                          math.nan, "")]  # fmt: skip
+            for outcome in outcomes:
+                batches.seconds.append(outcome.wall_seconds)
+                if outcome.index not in kept:  # a member is kept once
+                    kept.add(outcome.index)
+                    keep(outcome)
+                    restarts = 0
+        if lost:
+            restarts = _restart(engine, batches, flying, lost, restarts)
+
+
+def _restart(
+    engine: LocalEngine | DaskEngine,
+    batches: _Batches,
+    flying: dict[Any, list[MemberTask]],
+    lost: list[MemberTask],
+    restarts: int,
+) -> int:
+    """After a local worker died: every batch in flight is lost with the pool; send them again
+    on a new pool (an error after :data:`RESTARTS` in a row without a member finished)."""
+    if restarts >= RESTARTS:
+        raise ConfigError(
+            f"worker processes died {RESTARTS + 1} times without finishing a member "
+            "(out of memory, or a script that starts a study outside `if __name__ == "
+            "'__main__':`, docs/ensembles.md); the finished members are kept: "
+            "--resume continues"
+        )
+    for batch in [lost, *flying.values()]:
+        batches.put_back(batch, alone=False)
+    flying.clear()
+    engine.restart()
+    return restarts + 1
+
+
+def _plain_settings(settings: Mapping[str, Any]) -> dict[str, Any]:
+    """The keys set for every member as plain JSON values (numpy numbers as Python ones), as
+    ``study.json`` keeps them; a value JSON cannot hold is a ConfigError naming its key."""
+
+    def plain(value: Any) -> Any:
+        if isinstance(value, np.generic):
+            return value.item()
+        raise TypeError(type(value).__name__)
+
+    chosen = {}
+    for key, value in settings.items():
+        try:
+            chosen[str(key)] = json.loads(json.dumps(value, default=plain))
+        except (TypeError, ValueError) as error:
+            raise ConfigError(f"--set {key}: {value!r} is not a scene value ({error})") from None
+    return chosen
+
+
+def _options(options: Mapping[str, Any] | None) -> tuple[dict[str, Any], str]:
+    """The options of :func:`run_study`, checked, and the dataset format."""
+    chosen = dict(options or {})
+    known = {"fields", "depth_threshold", "format", "scheduler", "workers", "resume"}
+    unknown = set(chosen) - known
+    if unknown:
+        raise ConfigError(f"run_study: unknown options {', '.join(sorted(unknown))}")
+    file_format = str(chosen.get("format", "netcdf"))
+    check_format(file_format)
+    return chosen, file_format
+
+
+def _variations(vary: Sequence[str | Variation]) -> list[Variation]:
+    return [v if isinstance(v, Variation) else parse_variation(v) for v in vary]
+
+
+def run_study(
+    scene: str | Path,
+    vary: Sequence[str | Variation],
+    samples: int,
+    out: str | Path,
+    *,
+    design: str = "lhs",
+    seed: int = 0,
+    settings: Mapping[str, Any] | None = None,
+    options: Mapping[str, Any] | None = None,
+    report: Callable[[str], None] = print,
+) -> StudyResult:
+    """Run an ensemble of a scene and write its labelled dataset.
+
+    Parameters
+    ----------
+    scene : str or Path
+        A built-in scene name or a scene file.
+    vary : sequence of str or Variation
+        The varied keys, ``KEY=DISTRIBUTION:ARGS`` (:mod:`conslaw.ensemble.design`).
+    samples : int
+        Members.
+    out : str or Path
+        The study's folder (new or empty; or the same study's, with ``resume``).
+    design : {"lhs", "sobol", "grid", "random"}
+    seed : int
+        The same seed draws the same members.
+    settings : mapping, optional
+        Scene keys set for every member, as ``--set``.
+    options : mapping, optional
+        ``fields`` (bool: keep each member's maps), ``depth_threshold`` (float),
+        ``format`` (``netcdf`` or ``zarr``), ``scheduler`` (a Dask scheduler address, client or
+        cluster; default: local processes), ``workers`` (local processes), ``resume`` (bool).
+    report : callable
+        Gets the progress lines.
+
+    Returns
+    -------
+    StudyResult
+
+    Raises
+    ------
+    ConfigError
+        A bad variation, design or member (before anything runs), a folder in use.
+    StudyInterrupted
+        A signal stopped it; every finished member is kept.
+    """
+    chosen, file_format = _options(options)
+    source = str(scene)
+    if Path(source).suffix == ".toml" or Path(source).exists():
+        source = str(Path(source).resolve())
+    spec = StudySpec(
+        source, _plain_settings(settings or {}), [], design, int(samples), int(seed),
+        bool(chosen.get("fields", False)), chosen.get("depth_threshold"),
+    )  # fmt: skip
+    variations = _variations(vary)
+    spec.vary.extend(v.text for v in variations)
+    _check_fields(spec, variations)
+    values = draw(variations, design, int(samples), int(seed))
+    engine = engine_for(chosen.get("scheduler"), chosen.get("workers"))
+    first = member_tasks(spec, variations, values[:1])[0][0]
+    # The workers start (and load the first member's kernels) while the members are checked.
+    engine.start()
+    try:
+        engine.boot(first)
+        checked = member_tasks(spec, variations, values)
+        folder = StudyFolder(Path(out))
+        done = folder.open(spec, bool(chosen.get("resume", False)))
+        try:
+            return _run(spec, (variations, values), checked, done, folder, engine, file_format,
+                        report)  # fmt: skip
+        finally:
+            folder.close()
+    finally:
+        engine.stop(wait=False)
+
+
+def _run(
+    spec: StudySpec,
+    design: tuple[Sequence[Variation], Array],
+    checked: Sequence[Any],
+    done: dict[int, MemberOutcome],
+    folder: StudyFolder,
+    engine: LocalEngine | DaskEngine,
+    file_format: str,
+    report: Callable[[str], None],
+) -> StudyResult:
+    variations, values = design
+    missing = [task for task, _ in checked if task.index not in done]
+    if done:
+        report(f"resuming: {len(done)} of {len(checked)} members kept, {len(missing)} to run")
+    _warm([scene for task, scene in checked if task.index not in done], report)
+    progress = _Progress(len(checked), len(done), report)
+    latch = signals.SignalLatch()
+
+    def keep(outcome: MemberOutcome) -> None:
+        with signals.held():
+            folder.record(outcome)
+            done[outcome.index] = outcome
+        progress(outcome)
+        latch.check()
+
+    started = time.perf_counter()
+    with _handled_in_main_thread(latch):
+        try:
+            _execute(engine, missing, keep)
+        except KeyboardInterrupt as interrupt:
+            number = getattr(interrupt, "signal_number", 2)
+            _stop_after_interrupt(engine, report)
+            write_dataset(build_dataset(spec, variations, values, done, folder),
+                          folder.folder, file_format)  # fmt: skip
+            raise StudyInterrupted(len(done), len(checked), folder.folder, number) from None
+        except ConslawError:  # workers that keep dying: the members kept are in the dataset
+            engine.abandon()
+            write_dataset(build_dataset(spec, variations, values, done, folder),
+                          folder.folder, file_format)  # fmt: skip
+            raise
+    wall = time.perf_counter() - started
+    dataset = build_dataset(spec, variations, values, done, folder)
+    path = write_dataset(dataset, folder.folder, file_format)
+    return StudyResult(dataset, path, progress.ran, wall, engine.workers)
+
+
+def _handled_in_main_thread(latch: signals.SignalLatch) -> Any:
+    """The stop signals raise through ``latch`` (only the main thread can set handlers; a
+    study run from another thread is stopped by its caller)."""
+    if threading.current_thread() is threading.main_thread():
+        return signals.handled(latch)
+    return contextlib.nullcontext()
+
+
+def _stop_after_interrupt(engine: LocalEngine | DaskEngine, report: Callable[[str], None]) -> None:
+    """After a signal: members not started are dropped; running ones are ended (their
+    results would come after the study's dataset is written)."""
+    report("stopping: ending the running members (finished members are kept)")
+    engine.abandon()
