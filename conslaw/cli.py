@@ -416,18 +416,34 @@ def _command_warm(args: argparse.Namespace) -> int:
     return 0
 
 
-def _thresholds(pairs: Sequence[str]) -> dict[str, float]:
-    from conslaw.errors import ConfigError
+def _thresholds(pairs: Sequence[str], scene: str, settings: dict[str, Any]) -> dict[str, float]:
+    """``--threshold FIELD=VALUE`` pairs, checked before the study runs: a map the scene's
+    members keep (:data:`conslaw.ensemble.summary.FIELD_NAMES`), a finite value, each field
+    once."""
+    import math
 
+    from conslaw.ensemble.summary import FIELD_NAMES
+    from conslaw.errors import ConfigError
+    from conslaw.scene2d import Scene2D, load_any_scene
+
+    if not pairs:
+        return {}
+    dimension = 2 if isinstance(load_any_scene(scene, settings), Scene2D) else 1
     chosen: dict[str, float] = {}
     for pair in pairs:
-        name, separator, value = pair.partition("=")
+        name, _, value = (part.strip() for part in pair.partition("="))
         try:
-            chosen[name.strip()] = float(value)
+            number = float(value)
         except ValueError:
-            separator = ""
-        if not separator or not name.strip():
-            raise ConfigError(f"--threshold expects FIELD=NUMBER (peak_depth=1.0), got '{pair}'")
+            number = math.nan
+        if name not in FIELD_NAMES[dimension]:
+            known = ", ".join(FIELD_NAMES[dimension])
+            raise ConfigError(f"--threshold {name}: not a map of this scene's members ({known})")
+        if not math.isfinite(number):
+            raise ConfigError(f"--threshold expects FIELD=NUMBER (a finite number), got '{pair}'")
+        if name in chosen:
+            raise ConfigError(f"--threshold {name} given twice")
+        chosen[name] = number
     return chosen
 
 
@@ -438,9 +454,9 @@ def _command_ensemble(args: argparse.Namespace) -> int:
     from conslaw.ensemble.products import quantile_table, rank_correlations, write_products
     from conslaw.errors import ConfigError
 
-    thresholds = _thresholds(args.threshold)
-    if thresholds and not args.fields:
+    if args.threshold and not args.fields:
         raise ConfigError("--threshold needs the members' maps: add --fields")
+    thresholds = _thresholds(args.threshold, args.scene, _overrides(args.set))
     out = _out_folder(args.out, Path("conslaw-output") / f"ensemble-{Path(args.scene).stem}")
     options = {
         "fields": args.fields, "depth_threshold": args.depth_threshold, "format": args.format,
@@ -475,7 +491,17 @@ def _command_ensemble(args: argparse.Namespace) -> int:
                 for p in row["parameter"].values
             )
             print(f"  rank correlation of {figure} with {text}")
-    files = [study.path, *write_products(dataset, out, thresholds, plot=not args.no_plot)]
+    import os
+
+    from conslaw.output.files import hold_folder
+
+    held = hold_folder(out, "conslaw study")  # no other study writes into it meanwhile
+    try:
+        products = write_products(dataset, out, thresholds, plot=not args.no_plot)
+    finally:
+        if held is not None:
+            os.close(held)
+    files = [study.path, *products]
     for path in files:
         print(f"  wrote {path}")
     failed = [i for i, s in enumerate(dataset.status.values) if s != "finished"]

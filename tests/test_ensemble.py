@@ -11,7 +11,10 @@ import sys
 import threading
 import time
 from collections.abc import Iterator
+from concurrent.futures import Future
+from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -22,8 +25,10 @@ from conslaw.cli import main
 from conslaw.ensemble import run_study
 from conslaw.ensemble.dataset import read_dataset
 from conslaw.ensemble.design import draw, parse_variation, unit_points
-from conslaw.ensemble.member import MemberTask, run_member, state_digest
+from conslaw.ensemble.engine import DaskEngine, LocalEngine, WorkerLostError
+from conslaw.ensemble.member import MemberOutcome, MemberTask, run_member, state_digest
 from conslaw.ensemble.products import exceedance, rank_correlations
+from conslaw.ensemble.study import _execute
 from conslaw.ensemble.summary import margins, member_summary
 from conslaw.errors import ConfigError
 
@@ -469,3 +474,145 @@ def test_every_summary_figure_and_map_is_documented() -> None:
     text = (Path(__file__).parents[1] / "docs" / "ensembles.md").read_text()
     names = [*SUMMARY_1D, *SUMMARY_2D, *FIELD_NAMES[1], *FIELD_NAMES[2]]
     assert [name for name in names if f"`{name}`" not in text] == []
+
+
+# -- the scheduling of members, with engines that lose workers on purpose ----------------------
+
+
+class _PoisonedPool(LocalEngine):
+    """A local engine without processes: a batch holding ``poison`` kills "its worker", and
+    with it every batch in flight, as a real process pool breaks."""
+
+    def __init__(self, poison: int) -> None:
+        super().__init__(2)
+        self.poison = poison
+        self.flying: list[tuple[Future[Any], list[MemberTask]]] = []
+        self.restarts = 0
+
+    def start(self) -> None:
+        pass
+
+    def submit_batch(self, tasks: list[MemberTask]) -> Future[Any]:
+        future: Future[Any] = Future()
+        self.flying.append((future, tasks))
+        return future
+
+    def wait_any(self, futures: Any) -> set[Any]:
+        broken = any(self.poison in [t.index for t in tasks] for _, tasks in self.flying)
+        for future, tasks in self.flying:
+            if broken:
+                future.set_exception(BrokenProcessPool("a worker died"))
+            else:
+                future.set_result([_fake_outcome(task) for task in tasks])
+        self.flying = []
+        return set(futures)
+
+    def restart(self) -> None:
+        self.restarts += 1
+
+
+class _PoisonedCluster(DaskEngine):
+    """A Dask engine without a cluster: the scheduler gives up on a task holding ``poison``."""
+
+    def __init__(self, poison: int) -> None:
+        super().__init__("tcp://nowhere:1")
+        self.poison = poison
+
+    def start(self) -> None:
+        pass
+
+    def capacity(self) -> int:
+        return 2
+
+    def submit_batch(self, tasks: list[MemberTask]) -> Any:
+        future: Future[Any] = Future()
+        if self.poison in [task.index for task in tasks]:
+            future.set_exception(WorkerLostError("its workers died while running it"))
+        else:
+            future.set_result([_fake_outcome(task) for task in tasks])
+        return future
+
+    def wait_any(self, futures: Any) -> set[Any]:
+        return set(futures)
+
+    def outcome(self, future: Any) -> Any:
+        return future.result()
+
+
+def _fake_outcome(task: MemberTask) -> MemberOutcome:
+    return MemberOutcome(task.index, "finished", "", {}, "d", 0.001, "fake:1")
+
+
+@pytest.mark.parametrize("engine_class", [_PoisonedPool, _PoisonedCluster])
+@pytest.mark.parametrize("poison", [0, 7, 39])
+def test_a_member_that_kills_its_worker_is_failed_alone_and_the_rest_finish(
+    engine_class: type, poison: int
+) -> None:
+    tasks = [MemberTask(index, SCENE, {}) for index in range(40)]
+    kept: list[MemberOutcome] = []
+    _execute(engine_class(poison), tasks, kept.append)
+    assert sorted(outcome.index for outcome in kept) == list(range(40))
+    failed = [outcome for outcome in kept if outcome.status != "finished"]
+    assert [outcome.index for outcome in failed] == [poison]
+    assert "died" in failed[0].message
+
+
+def test_a_member_whose_initial_state_cannot_be_built_is_refused_first(tmp_path: Path) -> None:
+    out = tmp_path / "s"
+    with pytest.raises(ConfigError, match=r"member \d+ \(initial\.height=-.*height >= 0"):
+        run_study(SCENE, ["initial.height=uniform:-0.5:2"], 8, out, settings=SMALL, report=print)
+    assert not out.exists()
+
+
+def test_an_unexpected_error_in_a_member_is_that_member_s_failure(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    import conslaw.simulation
+
+    def broken(*args: Any, **kwargs: Any) -> Any:
+        raise RuntimeError("a bug")
+
+    monkeypatch.setattr(conslaw.simulation, "simulate", broken)
+    outcome = run_member(MemberTask(3, SCENE, SMALL))
+    assert (outcome.index, outcome.status, outcome.message) == (3, "failed", "RuntimeError: a bug")
+
+
+def test_a_release_against_the_boundary_is_not_a_run_out_cut_short() -> None:
+    result = conslaw.run("sh-dam-break-incline")
+    assert result.initial.q[0][0] > 0  # the reservoir fills the upslope end cell
+    assert member_summary(result)["at_boundary"] == 0.0
+    short = conslaw.run(SCENE, n_cells=100, x_max=20.0, parameters__zeta_end=40.0)
+    assert member_summary(short)["at_boundary"] == 1.0
+
+
+def test_a_resumed_study_whose_scene_file_changed_is_refused(tmp_path: Path) -> None:
+    from conslaw import registry
+
+    scene = tmp_path / "mine.toml"
+    scene.write_text(registry.scenes.get(SCENE).read_text())
+    out = tmp_path / "s"
+    run_study(scene, VARY[:1], 2, out, settings=SMALL, options={"workers": 1}, report=print)
+    scene.write_text(scene.read_text().replace("zeta = 40.0", "zeta = 35.0"))
+    with pytest.raises(ConfigError, match="asked differently \\(scene_sha256"):
+        run_study(scene, VARY[:1], 2, out, settings=SMALL, options={"resume": True}, report=print)
+
+
+@pytest.mark.parametrize(
+    ("arguments", "words"),
+    [
+        (["--threshold", "max_depth=1"], "add --fields"),
+        (["--fields", "--threshold", "peak_depth=1"], "not a map of this scene's members"),
+        (["--fields", "--threshold", "max_depth=nan"], "a finite number"),
+        (["--fields", "--threshold", "max_depth=1", "--threshold", "max_depth=2"], "twice"),
+        (["--depth-threshold", "-1"], "--depth-threshold: expected a number >= 0"),
+    ],
+)
+def test_bad_study_options_are_refused_before_anything_runs(
+    arguments: list[str], words: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    out = tmp_path / "s"
+    argv = ["ensemble", SCENE, "--vary", VARY[0], "--samples", "2", "--out", str(out)]
+    assert main([*argv, *arguments]) == 2
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1 and words in lines[0], lines
+    assert not out.exists()

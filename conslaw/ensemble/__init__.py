@@ -7,7 +7,21 @@ sensitivities (docs/ensembles.md).
 >>> study.dataset.runout_length.quantile([0.05, 0.5, 0.95])  # doctest: +SKIP
 """
 
-from conslaw.ensemble.design import Variation, parse_variation
-from conslaw.ensemble.study import StudyInterrupted, StudyResult, run_study
+from __future__ import annotations
 
-__all__ = ["StudyInterrupted", "StudyResult", "Variation", "parse_variation", "run_study"]
+from conslaw.lazy_exports import lazy_exports
+
+#: Where each public name lives; a submodule is imported on first use (PEP 562), so that the
+#: command line, which imports a few constants of this package, pays for no more.
+_HOMES = {
+    "StudyInterrupted": "study",
+    "StudyResult": "study",
+    "run_study": "study",
+    "Variation": "design",
+    "parse_variation": "design",
+}
+
+__all__ = sorted(_HOMES)
+
+
+__getattr__ = lazy_exports(__name__, _HOMES)

@@ -39,6 +39,7 @@ from conslaw.ensemble.fitting import (
     uncertainty_stage,
 )
 from conslaw.ensemble.observations import Observation, parse_number, read_observations, split_pair
+from conslaw.ensemble.study import scene_source
 from conslaw.errors import ConfigError, shown
 from conslaw.output.files import (
     atomic_write_bytes,
@@ -342,9 +343,7 @@ def calibrate(
     ConfigError
         Bad input (before any member runs), or no member of the coarse stage finished.
     """
-    source = str(scene)
-    if Path(source).suffix == ".toml" or Path(source).exists():
-        source = str(Path(source).resolve())
+    source = scene_source(scene)[0]
     chosen_settings = dict(settings or {})
     keys = fit_keys(source, chosen_settings, _fits(fit))
     observations = _observations(source, chosen_settings, observed, tolerance)

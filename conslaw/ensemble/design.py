@@ -16,8 +16,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy import stats
-from scipy.stats import qmc
 
 from conslaw.errors import ConfigError
 
@@ -62,6 +60,8 @@ class Variation:
 
     def values(self, unit: Array) -> Array:
         """The values at points ``unit`` of (0, 1): the inverse distribution function."""
+        from scipy import stats  # on first use: the command line imports this module
+
         low, *rest = self.arguments
         if self.kind == "uniform":
             return low + unit * (rest[0] - low)
@@ -138,6 +138,8 @@ def unit_points(design: str, samples: int, dimensions: int, seed: int) -> Array:
         raise ConfigError(f"--samples: expected an integer >= 1, got {samples}")
     if design == "grid":
         return _grid_points(samples, dimensions)
+    from scipy.stats import qmc  # on first use: the command line imports this module
+
     if design == "sobol":
         if samples & (samples - 1):
             below = 1 << (samples.bit_length() - 1)

@@ -64,6 +64,10 @@ class LocalEngine:
             self.workers, mp_context=context, initializer=_ignore_interrupts
         )
 
+    def capacity(self) -> int:
+        """Members that can run at once: the worker processes."""
+        return self.workers
+
     def boot(self, task: MemberTask) -> None:
         """Start every worker process now, each loading the kernels ``task`` needs
         (:func:`~conslaw.ensemble.member.prepare_member`), while this process goes on."""
@@ -165,6 +169,13 @@ class DaskEngine:
                 ) from None
             self._own_client = True
         self.workers = len(self._client.scheduler_info().get("workers", {}))
+
+    def capacity(self) -> int:
+        """Members that can run at once: the threads of the workers connected now (an adaptive
+        cluster grows and shrinks during a study)."""
+        workers = self._client.scheduler_info().get("workers", {})
+        self.workers = len(workers)
+        return sum(int(worker.get("nthreads", 1)) for worker in workers.values())
 
     def boot(self, task: MemberTask) -> None:
         """Nothing: a cluster's workers are running already; each loads the kernels at its

@@ -22,7 +22,6 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy import optimize
 
 from conslaw.ensemble.design import Variation, draw
 from conslaw.ensemble.engine import DaskEngine, LocalEngine, WorkerLostError
@@ -383,6 +382,8 @@ def refine(members: Members, best: Evaluation, max_evaluations: int) -> dict[str
     """
     keys = members.keys
     before = len(members.evaluations)
+    from scipy import optimize  # on first use: the command line imports this module
+
     if len(keys) == 1:
         key = keys[0]
         low, high = bracket(members.evaluations, key, best)

@@ -131,19 +131,24 @@ def run_member(task: MemberTask) -> MemberOutcome:
 
     started = time.perf_counter()
     worker = f"{socket.gethostname()}:{os.getpid()}"
+
+    def failed(status: str, message: str) -> MemberOutcome:
+        seconds = time.perf_counter() - started
+        return MemberOutcome(task.index, status, message, {}, "", seconds, worker)
+
     try:
         scene = load_any_scene(task.scene, dict(task.overrides))
         result: Any = simulate_2d(scene) if isinstance(scene, Scene2D) else simulate(scene)
     except ConslawError as error:
-        seconds = time.perf_counter() - started
-        return MemberOutcome(task.index, _status_of(error), str(error), {}, "", seconds, worker)
-    except (ArithmeticError, ValueError, MemoryError) as error:
-        seconds = time.perf_counter() - started
-        text = f"{type(error).__name__}: {error}"
-        return MemberOutcome(task.index, "failed", text, {}, "", seconds, worker)
-    summary = member_summary(result, task.depth_threshold)
-    maps = member_fields(result) if task.fields else {}
-    digest = state_digest(result.states[-1].q)
+        return failed(_status_of(error), str(error))
+    except Exception as error:  # any other failure is this member's, not the study's
+        return failed("failed", f"{type(error).__name__}: {error}")
+    try:
+        summary = member_summary(result, task.depth_threshold)
+        maps = member_fields(result) if task.fields else {}
+        digest = state_digest(result.states[-1].q)
+    except Exception as error:
+        return failed("failed", f"summary: {type(error).__name__}: {error}")
     seconds = time.perf_counter() - started
     return MemberOutcome(task.index, "finished", "", summary, digest, seconds, worker, maps)
 

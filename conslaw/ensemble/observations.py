@@ -33,7 +33,8 @@ DEPOSIT = "deposit"
 NOT_OBSERVABLE = ("mass_drift", "at_rest", "at_boundary", "steps", "solve_seconds")
 #: The figures an observation may name, by dimension (besides :data:`DEPOSIT`).
 OBSERVABLE = {
-    1: tuple(name for name in SUMMARY_1D if name not in NOT_OBSERVABLE),
+    # 1D max_speed is sampled at the output times only: a fit to it would fit the sampling.
+    1: tuple(name for name in SUMMARY_1D if name not in (*NOT_OBSERVABLE, "max_speed")),
     2: tuple(name for name in SUMMARY_2D if name not in NOT_OBSERVABLE),
 }
 #: The default standard error of an observation, relative to its magnitude (docs/calibration.md).

@@ -25,7 +25,14 @@ if TYPE_CHECKING:
 Array = NDArray[np.float64]
 
 #: Summary figures drawn as distributions, in order of preference.
-DISTRIBUTION_FIGURES = ("runout_length", "travel_angle", "front", "deposit_centre")
+DISTRIBUTION_FIGURES = (
+    "runout_length",
+    "travel_angle",
+    "front",
+    "deposit_centre",
+    "deposit_x",
+    "deposit_y",
+)
 
 
 def finished(dataset: xarray.Dataset) -> xarray.Dataset:
@@ -222,9 +229,9 @@ def write_products(
         files.append(write_netcdf(xr.Dataset(probabilities), folder / "exceedance.nc"))
     if not plot or finished(dataset).sizes["member"] == 0:
         return files
-    files.append(write_figure(folder / "distribution.png", distribution_figure(dataset)))
     rows = quantile_table(dataset)
     if rows:
+        files.append(write_figure(folder / "distribution.png", distribution_figure(dataset)))
         sensitivity = sensitivity_figure(dataset, rows[0][0])
         files.append(write_figure(folder / "sensitivity.png", sensitivity))
     for name, probability in probabilities.items():

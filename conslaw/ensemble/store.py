@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import io
 import json
-import math
 import os
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
@@ -50,6 +49,10 @@ class StudySpec:
         Keep each member's maps.
     depth_threshold : float or None
         Covered depth for the 1D summary figures (None: relative default).
+    scene_sha256 : str
+        SHA-256 of the scene file's bytes: a resumed study whose scene file changed is refused.
+    versions : dict
+        conslaw's and scipy's versions (scipy draws the members): the same on resume.
     """
 
     scene: str
@@ -60,7 +63,17 @@ class StudySpec:
     seed: int
     fields: bool = False
     depth_threshold: float | None = None
+    scene_sha256: str = ""
+    versions: dict[str, str] = field(default_factory=dict)
     extra: dict[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if not self.versions:
+            import scipy
+
+            from conslaw import __version__
+
+            self.versions.update(conslaw=__version__, scipy=scipy.__version__)
 
     def to_json(self) -> str:
         """The spec as a JSON document (``study.json``)."""
@@ -226,8 +239,3 @@ class StudyFolder:
         if self._hold is not None:
             os.close(self._hold)
             self._hold = None
-
-
-def finite_or_none(value: float) -> float | None:
-    """``value``, or None for NaN (for JSON summaries)."""
-    return None if math.isnan(value) else value

@@ -27,7 +27,7 @@ from conslaw.ensemble.design import Variation, draw, parse_variation
 from conslaw.ensemble.engine import DaskEngine, LocalEngine, WorkerLostError, engine_for
 from conslaw.ensemble.member import MemberOutcome, MemberTask
 from conslaw.ensemble.store import StudyFolder, StudySpec
-from conslaw.errors import ConfigError, ConslawError
+from conslaw.errors import ConfigError, ConslawError, OutputError
 
 if TYPE_CHECKING:
     import xarray
@@ -44,6 +44,8 @@ BATCH_SECONDS = 0.2
 MAX_BATCH = 64
 #: Batches in flight per worker (one running, the next waiting in the queue).
 IN_FLIGHT_PER_WORKER = 2
+#: Deaths of its worker, running alone, after which a member is kept as failed.
+DEATHS = 2
 
 
 class StudyInterrupted(ConslawError):  # noqa: N818 (named like RunInterrupted)
@@ -94,9 +96,12 @@ def _scene_value(variation: Variation, value: float) -> float | int:
 
 
 def member_tasks(spec: StudySpec, variations: Sequence[Variation], values: Array) -> list[Any]:
-    """Every member's task, each checked as ``conslaw run`` would check its scene; the first
+    """Every member's task, each checked as ``conslaw run`` checks its scene before it runs
+    (the scene read and validated, its model, grid, scheme and initial state built); the first
     member that cannot run is a ConfigError naming it, its values and the key."""
     from conslaw.scene2d import Scene2D, load_any_scene
+    from conslaw.simulation import build
+    from conslaw.simulation2d import build_2d
 
     tasks, dimension = [], 0
     for index, row in enumerate(values):
@@ -104,6 +109,7 @@ def member_tasks(spec: StudySpec, variations: Sequence[Variation], values: Array
         overrides = {**spec.settings, **varied}
         try:
             scene = load_any_scene(spec.scene, overrides)
+            build_2d(scene) if isinstance(scene, Scene2D) else build(scene)
         except ConfigError as error:
             shown = ", ".join(f"{key}={value:.6g}" for key, value in varied.items())
             raise ConfigError(f"member {index} ({shown}): {error}") from None
@@ -177,12 +183,15 @@ class _Progress:
 
 class _Batches:
     """The members not yet sent, in batches sized so that one batch keeps a worker busy for
-    about :data:`BATCH_SECONDS` (from the members' times so far; one member per batch until
-    the first come back, and for a member retried alone after its batch lost a worker)."""
+    about :data:`BATCH_SECONDS` (from the members' times so far; one member per batch until the
+    first come back). Members that were in flight when a local worker died are *suspects*:
+    each is sent alone with nothing else in flight, so that a member that kills its worker is
+    found, and failed after :data:`DEATHS` deaths, without taking others with it."""
 
     def __init__(self, tasks: Sequence[MemberTask]) -> None:
         self.queue: collections.deque[MemberTask] = collections.deque(tasks)
-        self.alone: set[int] = set()
+        self.suspects: set[int] = set()
+        self.deaths: collections.Counter[int] = collections.Counter()
         self.seconds: list[float] = []
 
     def size(self) -> int:
@@ -191,19 +200,25 @@ class _Batches:
         typical = float(np.median(self.seconds[-200:]))
         return int(min(max(BATCH_SECONDS / max(typical, 1e-6), 1), MAX_BATCH))
 
-    def next(self) -> list[MemberTask]:
+    def take(self, in_flight: int) -> list[MemberTask] | None:
+        """The next batch to send with ``in_flight`` batches out, or None to wait: a suspect
+        goes alone when nothing else is out; a batch stops before a suspect."""
+        if self.queue[0].index in self.suspects:
+            return [self.queue.popleft()] if in_flight == 0 else None
         batch = [self.queue.popleft()]
-        while self.queue and len(batch) < self.size() and batch[0].index not in self.alone:
-            if self.queue[0].index in self.alone:
-                break
+        while self.queue and len(batch) < self.size() and self.queue[0].index not in self.suspects:
             batch.append(self.queue.popleft())
         return batch
 
-    def put_back(self, batch: Sequence[MemberTask], alone: bool) -> None:
-        """Members to send again (first), each alone if ``alone``."""
-        if alone:
-            self.alone.update(task.index for task in batch)
+    def put_back(self, batch: Sequence[MemberTask], suspect: bool) -> None:
+        """Members to send again (first), as suspects if ``suspect``."""
+        if suspect:
+            self.suspects.update(task.index for task in batch)
         self.queue.extendleft(reversed(batch))
+
+
+def _failed(batch: Sequence[MemberTask], message: str) -> list[MemberOutcome]:
+    return [MemberOutcome(task.index, "failed", message, {}, "", math.nan, "") for task in batch]
 
 
 def _execute(
@@ -212,40 +227,65 @@ def _execute(
     keep: Callable[[MemberOutcome], None],
 ) -> None:
     """Run ``tasks`` on ``engine`` in batches, a few per worker in flight at a time, ``keep``
-    each outcome once as it arrives. A local pool whose worker died is restarted and the lost
-    batches sent again; on Dask a batch whose workers kept dying is sent again one member at
-    a time, and such a member alone is failed."""
+    each outcome once as it arrives. A member whose worker dies is sent again (alone); one that
+    kills its worker :data:`DEATHS` times, or whose batch fails otherwise, is kept as failed
+    with the reason, and the study goes on."""
     batches = _Batches(tasks)
     flying: dict[Any, list[MemberTask]] = {}
     kept: set[int] = set()
-    restarts = 0
+    stalls = 0
     while batches.queue or flying:
-        window = IN_FLIGHT_PER_WORKER * max(engine.workers, 1)
+        window = IN_FLIGHT_PER_WORKER * max(engine.capacity(), 1)
         while batches.queue and len(flying) < window:
-            batch = batches.next()
+            batch = batches.take(len(flying))
+            if batch is None:
+                break
             flying[engine.submit_batch(batch)] = batch
         lost: list[MemberTask] = []
+        broken = False
         for future in engine.wait_any(flying):
             batch = flying.pop(future)
             try:
                 outcomes = engine.outcome(future)
             except WorkerLostError as error:
-                if isinstance(engine, LocalEngine):
-                    lost.extend(batch)
-                    continue
-                if len(batch) > 1:
-                    batches.put_back(batch, alone=True)
-                    continue
-                outcomes = [MemberOutcome(batch[0].index, "failed", str(error), {}, "",
-                                          math.nan, "")]  # fmt: skip
+                broken = isinstance(engine, LocalEngine)
+                outcomes = _lost(engine, batches, batch, lost, str(error))
+            except Exception as error:  # the batch's own failure (not picklable, ...)
+                outcomes = _failed(batch, f"{type(error).__name__}: {error}")
             for outcome in outcomes:
-                batches.seconds.append(outcome.wall_seconds)
+                if math.isfinite(outcome.wall_seconds):
+                    batches.seconds.append(outcome.wall_seconds)
                 if outcome.index not in kept:  # a member is kept once
                     kept.add(outcome.index)
                     keep(outcome)
-                    restarts = 0
-        if lost:
-            restarts = _restart(engine, batches, flying, lost, restarts)
+                    stalls = 0 if outcome.status == "finished" else stalls
+        if broken:
+            stalls = _restart(engine, batches, flying, lost, stalls)
+
+
+def _lost(
+    engine: LocalEngine | DaskEngine,
+    batches: _Batches,
+    batch: list[MemberTask],
+    lost: list[MemberTask],
+    reason: str,
+) -> list[MemberOutcome]:
+    """A batch whose worker died: the failed outcome of a suspect that died :data:`DEATHS`
+    times alone (or, on Dask, a member the scheduler gave up on), else [] and the batch to send
+    again (``lost``: a local pool is restarted; on Dask, each member alone)."""
+    alone = len(batch) == 1 and batch[0].index in batches.suspects
+    if isinstance(engine, DaskEngine) and len(batch) == 1:
+        return _failed(batch, reason)
+    if alone:
+        batches.deaths[batch[0].index] += 1
+        if batches.deaths[batch[0].index] >= DEATHS:
+            return _failed(batch, f"its worker process died {DEATHS} times running it "
+                                  "(killed, or out of memory)")  # fmt: skip
+    if isinstance(engine, DaskEngine):
+        batches.put_back(batch, suspect=True)
+    else:
+        lost.extend(batch)
+    return []
 
 
 def _restart(
@@ -253,11 +293,12 @@ def _restart(
     batches: _Batches,
     flying: dict[Any, list[MemberTask]],
     lost: list[MemberTask],
-    restarts: int,
+    stalls: int,
 ) -> int:
-    """After a local worker died: every batch in flight is lost with the pool; send them again
-    on a new pool (an error after :data:`RESTARTS` in a row without a member finished)."""
-    if restarts >= RESTARTS:
+    """After a local worker died: every batch in flight is lost with the pool; send them (and
+    ``lost``) again, as suspects, on a new pool (an error after :data:`RESTARTS` deaths in a
+    row without a member finishing: workers that cannot run anything)."""
+    if stalls >= RESTARTS:
         raise ConfigError(
             f"worker processes died {RESTARTS + 1} times without finishing a member "
             "(out of memory, or a script that starts a study outside `if __name__ == "
@@ -265,10 +306,10 @@ def _restart(
             "--resume continues"
         )
     for batch in [lost, *flying.values()]:
-        batches.put_back(batch, alone=False)
+        batches.put_back(batch, suspect=True)
     flying.clear()
     engine.restart()
-    return restarts + 1
+    return stalls + 1
 
 
 def _plain_settings(settings: Mapping[str, Any]) -> dict[str, Any]:
@@ -289,6 +330,24 @@ def _plain_settings(settings: Mapping[str, Any]) -> dict[str, Any]:
     return chosen
 
 
+def scene_source(scene: str | Path) -> tuple[str, str]:
+    """A study's scene as its members load it, resolved as ``conslaw run`` resolves it (a
+    built-in name stays a name, a ``.toml`` file becomes its absolute path), and the SHA-256
+    of the scene file's bytes; a ConfigError naming the scene otherwise."""
+    import hashlib
+
+    from conslaw import registry
+    from conslaw.config import scene_path
+
+    name, path = scene_path(scene)
+    source = name if str(scene) in registry.scenes else str(Path(path).resolve())
+    try:
+        digest = hashlib.sha256(Path(path).read_bytes()).hexdigest()
+    except OSError as error:
+        raise ConfigError(f"cannot read scene file '{path}': {error.strerror}") from None
+    return source, digest
+
+
 def _options(options: Mapping[str, Any] | None) -> tuple[dict[str, Any], str]:
     """The options of :func:`run_study`, checked, and the dataset format."""
     chosen = dict(options or {})
@@ -298,6 +357,9 @@ def _options(options: Mapping[str, Any] | None) -> tuple[dict[str, Any], str]:
         raise ConfigError(f"run_study: unknown options {', '.join(sorted(unknown))}")
     file_format = str(chosen.get("format", "netcdf"))
     check_format(file_format)
+    threshold = chosen.get("depth_threshold")
+    if threshold is not None and not (math.isfinite(float(threshold)) and threshold >= 0):
+        raise ConfigError(f"--depth-threshold: expected a number >= 0, got {threshold}")
     return chosen, file_format
 
 
@@ -353,12 +415,10 @@ def run_study(
         A signal stopped it; every finished member is kept.
     """
     chosen, file_format = _options(options)
-    source = str(scene)
-    if Path(source).suffix == ".toml" or Path(source).exists():
-        source = str(Path(source).resolve())
+    source, digest = scene_source(scene)
     spec = StudySpec(
         source, _plain_settings(settings or {}), [], design, int(samples), int(seed),
-        bool(chosen.get("fields", False)), chosen.get("depth_threshold"),
+        bool(chosen.get("fields", False)), chosen.get("depth_threshold"), digest,
     )  # fmt: skip
     variations = _variations(vary)
     spec.vary.extend(v.text for v in variations)
@@ -368,16 +428,22 @@ def run_study(
     first = member_tasks(spec, variations, values[:1])[0][0]
     # The workers start (and load the first member's kernels) while the members are checked.
     engine.start()
+    latch = signals.SignalLatch()
     try:
-        engine.boot(first)
-        checked = member_tasks(spec, variations, values)
-        folder = StudyFolder(Path(out))
-        done = folder.open(spec, bool(chosen.get("resume", False)))
-        try:
-            return _run(spec, (variations, values), checked, done, folder, engine, file_format,
-                        report)  # fmt: skip
-        finally:
-            folder.close()
+        with _handled_in_main_thread(latch):  # a stop signal ends the workers too
+            engine.boot(first)
+            checked = member_tasks(spec, variations, values)
+            _warm([scene for _, scene in checked], report)
+            folder = StudyFolder(Path(out))
+            done = folder.open(spec, bool(chosen.get("resume", False)))
+            try:
+                return _run(spec, (variations, values), checked, done, folder, engine,
+                            (file_format, latch), report)  # fmt: skip
+            finally:
+                folder.close()
+    except BaseException:
+        engine.abandon()  # a refused or failed study: its workers' current work is not needed
+        raise
     finally:
         engine.stop(wait=False)
 
@@ -389,42 +455,55 @@ def _run(
     done: dict[int, MemberOutcome],
     folder: StudyFolder,
     engine: LocalEngine | DaskEngine,
-    file_format: str,
+    writing: tuple[str, signals.SignalLatch],
     report: Callable[[str], None],
 ) -> StudyResult:
     variations, values = design
+    file_format, latch = writing
     missing = [task for task, _ in checked if task.index not in done]
     if done:
         report(f"resuming: {len(done)} of {len(checked)} members kept, {len(missing)} to run")
-    _warm([scene for task, scene in checked if task.index not in done], report)
     progress = _Progress(len(checked), len(done), report)
-    latch = signals.SignalLatch()
 
     def keep(outcome: MemberOutcome) -> None:
         with signals.held():
-            folder.record(outcome)
+            try:
+                folder.record(outcome)
+            except OSError as error:
+                raise OutputError(
+                    f"cannot write to the study folder '{folder.folder}': "
+                    f"{error.strerror or error}; the members kept before are in "
+                    f"{folder.journal_path.name}: make room and run again with --resume"
+                ) from None
             done[outcome.index] = outcome
         progress(outcome)
         latch.check()
 
     started = time.perf_counter()
-    with _handled_in_main_thread(latch):
-        try:
-            _execute(engine, missing, keep)
-        except KeyboardInterrupt as interrupt:
-            number = getattr(interrupt, "signal_number", 2)
-            _stop_after_interrupt(engine, report)
+    try:
+        _execute(engine, missing, keep)
+    except KeyboardInterrupt as interrupt:
+        number = getattr(interrupt, "signal_number", 2)
+        _stop_after_interrupt(engine, report)
+        write_dataset(build_dataset(spec, variations, values, done, folder),
+                      folder.folder, file_format)  # fmt: skip
+        raise StudyInterrupted(len(done), len(checked), folder.folder, number) from None
+    except ConslawError:  # workers that keep dying, a full disk: keep what can be kept
+        engine.abandon()
+        with contextlib.suppress(OSError):
             write_dataset(build_dataset(spec, variations, values, done, folder),
                           folder.folder, file_format)  # fmt: skip
-            raise StudyInterrupted(len(done), len(checked), folder.folder, number) from None
-        except ConslawError:  # workers that keep dying: the members kept are in the dataset
-            engine.abandon()
-            write_dataset(build_dataset(spec, variations, values, done, folder),
-                          folder.folder, file_format)  # fmt: skip
-            raise
+        raise
     wall = time.perf_counter() - started
     dataset = build_dataset(spec, variations, values, done, folder)
-    path = write_dataset(dataset, folder.folder, file_format)
+    try:
+        path = write_dataset(dataset, folder.folder, file_format)
+    except OSError as error:
+        raise OutputError(
+            f"cannot write the study's dataset in '{folder.folder}': {error.strerror or error}; "
+            f"every member is in {folder.journal_path.name}: make room and run again with "
+            "--resume"
+        ) from None
     return StudyResult(dataset, path, progress.ran, wall, engine.workers)
 
 

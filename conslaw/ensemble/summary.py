@@ -35,7 +35,7 @@ SUMMARY_1D = {
     "max_speed": ("largest speed of a covered cell at the output times", "speed"),
     "mass_drift": ("relative change of the total of the first variable", "1"),
     "at_rest": ("1 if every momentum is exactly 0 at the end, else 0", "1"),
-    "at_boundary": ("1 if an end cell was covered at an output time (run-out cut short)", "1"),
+    "at_boundary": ("1 if the flow covered an end cell bare at t = 0 (run-out cut short)", "1"),
     "steps": ("time steps", "1"),
     "solve_seconds": ("wall time of the time loop", "s"),
 }
@@ -123,8 +123,11 @@ def _summary_1d(result: Any, depth_threshold: float | None) -> dict[str, float]:
     speeds = [np.abs(model.primitive_fields(s.q)["u"])[s.q[depth_row] > threshold]
               for s in result.states]  # fmt: skip
     summary["max_speed"] = float(max((s.max() for s in speeds if s.size), default=math.nan))
-    ends = [state.q[depth_row][[0, -1]] for state in result.states]
-    summary["at_boundary"] = float(any(np.any(end > threshold) for end in ends))
+    # An end cell reached by the flow (one covered from the start, a release or reservoir
+    # against the boundary, does not count).
+    start_ends = h0[[0, -1]] > threshold
+    ends = [state.q[depth_row][[0, -1]] > threshold for state in result.states]
+    summary["at_boundary"] = float(any(np.any(end & ~start_ends) for end in ends))
     if np.sum(h) > 0:
         summary["deposit_centre"] = float(np.sum(h * x) / np.sum(h))
     if not covered.any() or not released.any():

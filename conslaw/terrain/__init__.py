@@ -10,8 +10,7 @@ a map over a hillshade (:mod:`~conslaw.terrain.hazard_figure`). Arrays are ``(ny
 
 from __future__ import annotations
 
-import importlib
-from typing import Any
+from conslaw.lazy_exports import lazy_exports
 
 #: Where each name of the package lives; a submodule is imported on first use of one of its
 #: names (PEP 562), so that importing one of them (the terrain model imports the DEM reader at
@@ -41,7 +40,4 @@ _HOMES = {
 __all__ = sorted(_HOMES)
 
 
-def __getattr__(name: str) -> Any:
-    if name not in _HOMES:
-        raise AttributeError(f"module 'conslaw.terrain' has no attribute {name!r}")
-    return getattr(importlib.import_module(f"conslaw.terrain.{_HOMES[name]}"), name)
+__getattr__ = lazy_exports(__name__, _HOMES)
