@@ -616,3 +616,23 @@ def test_bad_study_options_are_refused_before_anything_runs(
     lines = capsys.readouterr().err.strip().splitlines()
     assert len(lines) == 1 and words in lines[0], lines
     assert not out.exists()
+
+
+def test_the_dataset_is_rewritten_as_members_arrive(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import conslaw.ensemble.study as study_module
+
+    written: list[int] = []
+    write = study_module.write_dataset
+
+    def counted(dataset: Any, folder: Path, file_format: str) -> Path:
+        written.append(int((dataset.status.values != "pending").sum()))
+        return write(dataset, folder, file_format)
+
+    monkeypatch.setattr(study_module, "DATASET_SECONDS", 0.0)
+    monkeypatch.setattr(study_module, "write_dataset", counted)
+    _study(tmp_path / "s", samples=6)
+    # At least once before the end with fewer members (the first member kept writes it).
+    assert written[-1] == 6 and len(written) >= 2
+    assert written[0] < 6 and written == sorted(written)

@@ -46,6 +46,9 @@ MAX_BATCH = 64
 IN_FLIGHT_PER_WORKER = 2
 #: Deaths of its worker, running alone, after which a member is kept as failed.
 DEATHS = 2
+#: The dataset is rewritten from the members kept at most this often during a study (seconds);
+#: the journal has every member as it arrives.
+DATASET_SECONDS = 10.0
 
 
 class StudyInterrupted(ConslawError):  # noqa: N818 (named like RunInterrupted)
@@ -476,8 +479,22 @@ def _run(
                     f"{folder.journal_path.name}: make room and run again with --resume"
                 ) from None
             done[outcome.index] = outcome
+            refresh()
         progress(outcome)
         latch.check()
+
+    last = [time.monotonic(), 0.0]  # when the dataset was last written, and how long it took
+
+    def refresh() -> None:
+        """Rewrite the dataset now and then as members arrive (at most every
+        :data:`DATASET_SECONDS`, and never more than 5 % of the time)."""
+        now = time.monotonic()
+        if now - last[0] < max(DATASET_SECONDS, 20.0 * last[1]):
+            return
+        with contextlib.suppress(OSError):  # the journal has every member; the end retries
+            write_dataset(build_dataset(spec, variations, values, done, folder),
+                          folder.folder, file_format)  # fmt: skip
+        last[:] = [time.monotonic(), time.monotonic() - now]
 
     started = time.perf_counter()
     try:
