@@ -3,6 +3,7 @@ bit, nothing lost or duplicated when workers die or the study is interrupted, pr
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import signal
@@ -62,7 +63,8 @@ def _no_threads_left() -> Iterator[None]:
     before = set(threading.enumerate())
     yield
     for thread in set(threading.enumerate()) - before:
-        thread.join(2 if thread.daemon else 30)
+        with contextlib.suppress(RuntimeError):  # one still starting cannot be joined yet
+            thread.join(2 if thread.daemon else 30)
 
 
 # -- designs -----------------------------------------------------------------------------------
