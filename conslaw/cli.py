@@ -510,6 +510,12 @@ def _command_ensemble(args: argparse.Namespace) -> int:
     return 0
 
 
+def _add_engine_options(parser: argparse.ArgumentParser) -> None:
+    """Where the members of a study or calibration run: ``--scheduler``, ``--workers``."""
+    parser.add_argument("--scheduler", help="a Dask scheduler address, e.g. tcp://host:8786")
+    parser.add_argument("--workers", type=int, help="local processes (default: one per core)")
+
+
 def _add_ensemble(commands: Any) -> None:
     from conslaw.ensemble.dataset import FORMATS
     from conslaw.ensemble.design import DESIGNS, DISTRIBUTIONS
@@ -535,8 +541,7 @@ def _add_ensemble(commands: Any) -> None:
         help="exceedance probability of a map, e.g. peak_depth=1.0 (needs --fields)",
     )  # fmt: skip
     study.add_argument("--format", default="netcdf", choices=list(FORMATS), help="dataset format")
-    study.add_argument("--scheduler", help="a Dask scheduler address, e.g. tcp://host:8786")
-    study.add_argument("--workers", type=int, help="local processes (default: one per core)")
+    _add_engine_options(study)
     study.add_argument("--depth-threshold", type=float, help="covered depth, 1D figures")
     study.add_argument("--no-plot", action="store_true", help="no figures")
 
@@ -604,8 +609,7 @@ def _add_calibrate(commands: Any) -> None:
         "--coarse", type=int, help=f"members of the coarse stage ({COARSE_PER_KEY} per key)"
     )
     fit.add_argument("--out", help="output folder (default conslaw-output/calibrate-SCENE)")
-    fit.add_argument("--scheduler", help="a Dask scheduler address, e.g. tcp://host:8786")
-    fit.add_argument("--workers", type=int, help="local processes (default: one per core)")
+    _add_engine_options(fit)
     fit.add_argument("--no-plot", action="store_true", help="no calibration.png")
 
 

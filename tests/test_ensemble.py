@@ -155,15 +155,21 @@ def test_margins_are_the_interpolated_crossings_of_the_covered_depth() -> None:
 
 
 def test_the_travel_angle_is_measured_on_the_chute() -> None:
+    from scipy.integrate import quad
+
     result = conslaw.run(SCENE, n_cells=100)
     summary = member_summary(result)
     chute = result.model.chute
     top = margins(result.grid.centres(), result.initial.q[0], 1e-3 * result.initial.q[0].max())[1]
-    horizontal, elevation = chute.elevation_profile(np.array([top, summary["front"]]))
-    expected = np.degrees(np.arctan2(elevation[0] - elevation[1], horizontal[1] - horizontal[0]))
-    assert summary["travel_angle"] == pytest.approx(expected, rel=1e-12)
-    # The travel angle of a mass that stops lies between the run-out plane (0) and the slope.
-    assert 0.0 < summary["travel_angle"] < 40.0
+    # Along the bed: dX = cos(zeta) dx, dZ = -sin(zeta) dx (the transition's ends as breaks).
+    breaks = [21.5, 25.5]
+    length = quad(lambda x: np.cos(chute.zeta(np.array([x]))[0]), top, summary["front"],
+                  points=breaks, limit=200)[0]  # fmt: skip
+    drop = quad(lambda x: np.sin(chute.zeta(np.array([x]))[0]), top, summary["front"],
+                points=breaks, limit=200)[0]  # fmt: skip
+    assert summary["runout_length"] == pytest.approx(length, rel=1e-6)
+    assert summary["drop"] == pytest.approx(drop, rel=1e-6)
+    assert summary["travel_angle"] == pytest.approx(np.degrees(np.arctan2(drop, length)), rel=1e-6)
     assert summary["mass_drift"] == float(result.mass_drift[0])
 
 

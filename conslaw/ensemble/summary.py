@@ -67,6 +67,9 @@ FIELD_NAMES = {
         "deposit": "flow depth at the end",
     },
 }
+#: Points along the chute from the top of the release to the front at which its elevation
+#: profile is evaluated (each integrated on 20 sub-steps): the run-out to about 1e-7 of itself.
+PATH_POINTS = 1001
 #: The default covered depth, relative to the largest initial depth.
 RELATIVE_THRESHOLD = 1e-3
 
@@ -137,9 +140,10 @@ def _summary_1d(result: Any, depth_threshold: float | None) -> dict[str, float]:
     summary.update(front=front, rear=rear, runout_length=front - top)
     chute = getattr(model, "chute", None)
     if chute is not None:
-        horizontal, elevation = chute.elevation_profile(np.array([top, front]))
-        length = float(horizontal[1] - horizontal[0])
-        drop = float(elevation[0] - elevation[1])
+        # The profile is integrated on 20 points per point asked for: ask for a fine path.
+        horizontal, elevation = chute.elevation_profile(np.linspace(top, front, PATH_POINTS))
+        length = float(horizontal[-1] - horizontal[0])
+        drop = float(elevation[0] - elevation[-1])
         summary.update(runout_length=length, drop=drop)
         summary["travel_angle"] = math.degrees(math.atan2(drop, length))
     return summary
