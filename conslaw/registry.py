@@ -234,9 +234,9 @@ def check_scheme_2d(name: str, obj: Any) -> Any:
 
 
 def _builtin_schemes_2d() -> list[tuple[str, Any]]:
-    from conslaw.schemes.jiang_tadmor import JiangTadmor
+    from conslaw.schemes.jiang_tadmor import JiangTadmor, JiangTadmorTracked
 
-    return [(JiangTadmor.name, JiangTadmor)]
+    return [(scheme.name, scheme) for scheme in (JiangTadmor, JiangTadmorTracked)]
 
 
 def _builtin_scenes() -> list[tuple[str, Any]]:

@@ -71,9 +71,11 @@ DEFAULTS_2D: dict[str, Any] = {
 
 #: One-line meaning of the keys that differ from a 1D scene's.
 KEY_HELP_2D: dict[str, str] = {
-    "scheme": "registered 2D scheme (built in: jiang-tadmor)",
-    "scheme_options": "jiang-tadmor: threads (default: every core) and chunks of rows per step "
-    "(default: 2 per thread), integers >= 1; the results do not depend on them",
+    "scheme": "registered 2D scheme (built in: jiang-tadmor; jiang-tadmor-ft, the same with the "
+    'margins of the depth tracked, docs/design.md "Margins in two dimensions")',
+    "scheme_options": "jiang-tadmor and jiang-tadmor-ft: threads (default: every core) and "
+    "chunks of rows per step (default: 2 per thread), integers >= 1; the results do not depend "
+    "on them",
     "cfl": "target Courant number per direction, 0 < cfl < 0.5 (stable; Jiang & Tadmor 1998); "
     "values stay within the initial range only with none at <= 0.25 or minmod at <= 0.125 "
     '(docs/design.md, "The 2D time step and the maximum principle")',
@@ -244,10 +246,10 @@ def _times(table: Mapping[str, Any]) -> tuple[float, list[float]]:
 
 
 def _boundaries(
-    value: Any, kinds: tuple[str, ...]
+    value: Any, kinds: tuple[str, ...], scheme: str
 ) -> tuple[dict[str, str], dict[str, tuple[float, ...]]]:
-    """The kind of every side, and the state of every inflow side
-    (``{ kind = "inflow", state = [...] }``)."""
+    """The kind of every side (one of ``kinds``, those of the 2D scheme named ``scheme``), and
+    the state of every inflow side (``{ kind = "inflow", state = [...] }``)."""
     given = _table(value, "boundary", SIDES_2D)
     sides: dict[str, str] = {}
     inflow: dict[str, tuple[float, ...]] = {}
@@ -265,7 +267,8 @@ def _boundaries(
             entry = "inflow"
         if not isinstance(entry, str) or entry not in kinds:
             raise ConfigError(
-                f"boundary.{side}: {entry!r} is not one of {', '.join(kinds)} (2D scenes)"
+                f"boundary.{side}: {entry!r} is not one of {', '.join(kinds)} (the sides of "
+                f"2D scheme '{scheme}')"
             )
         if entry == "inflow" and side not in inflow:
             raise ConfigError(
@@ -337,7 +340,9 @@ def validate_2d(
         raise ConfigError(f"scene key 'max_steps': expected an integer >= 1, got {max_steps!r}")
     if not 1 <= max_steps <= MAX_STEPS:
         raise ConfigError(f"scene key 'max_steps': expected 1 to {MAX_STEPS}, got {max_steps}")
-    boundaries, inflow = _boundaries(table["boundary"], scheme_class.boundary_kinds)
+    boundaries, inflow = _boundaries(
+        table["boundary"], scheme_class.boundary_kinds, scheme_class.name
+    )
     scheme_options = _scheme_options(table["scheme_options"], scheme_class)
     parameters = resolve_files(parameters, folder)
     if model_object is None or model_object.name != model:

@@ -5,7 +5,9 @@ dimensions") at four resolutions, through :func:`conslaw.run_2d`: the L1 error o
 between the margin of the computed cap (the ``h = 1e-6`` contour: cells deeper than that) and
 the exact ellipse, the relative change of the total depth and the smallest depth.
 
-Usage: ``python scripts/similarity_2d.py [reconstructor ...]`` (default ``mc``)
+Usage: ``python scripts/similarity_2d.py [--scene NAME] [reconstructor ...]`` (default
+``sh2d-similarity`` and ``mc``; ``--scene sh2d-similarity-ft`` tracks the margins,
+docs/design.md, "Margins in two dimensions")
 """
 
 from __future__ import annotations
@@ -46,16 +48,18 @@ def margin_offset(result: RunResult2D) -> float:
 
 
 def main() -> None:
-    names = sys.argv[1:] or ["mc"]
+    arguments = sys.argv[1:]
+    scene = "sh2d-similarity"
+    if arguments[:1] == ["--scene"]:
+        scene, arguments = arguments[1], arguments[2:]
+    names = arguments or ["mc"]
     print("| reconstructor | cells | L1(h) | order | margin offset (cells) | mass change | min h |")
     print("|---|---|---|---|---|---|---|")
     for name in names:
         errors, cells = [], []
         rows = []
         for nx, ny in RESOLUTIONS:
-            result = conslaw.run_2d(
-                "sh2d-similarity", n_cells=[nx, ny], output_times=[], reconstructor=name
-            )
+            result = conslaw.run_2d(scene, n_cells=[nx, ny], output_times=[], reconstructor=name)
             error = result.headline_error()
             assert error is not None
             errors.append(error)

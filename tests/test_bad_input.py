@@ -649,6 +649,26 @@ CASES: list[BadInput] = [
         ["initial.height: must be >= 0"],
     ),
     bad(
+        "tracked-margins-periodic-side",
+        ["run", "sh2d-similarity-ft", "--set", "boundary.left=periodic"],
+        ["boundary.left: 'periodic' is not one of outflow, wall", "scheme 'jiang-tadmor-ft'"],
+    ),
+    bad(
+        "tracked-margins-without-a-depth",
+        [
+            "run",
+            "burgers2d-smooth",
+            "--set",
+            "scheme=jiang-tadmor-ft",
+            *(
+                part
+                for side in ("left", "right", "bottom", "top")
+                for part in ("--set", f"boundary.{side}=wall")
+            ),
+        ],
+        ["jiang-tadmor-ft", "model 'burgers-2d' has no depth"],
+    ),
+    bad(
         "huge-int-wavenumber", [*SINE, f"initial.wavenumber={BIG}"], ["initial.wavenumber", "2**53"]
     ),
     bad(
