@@ -276,7 +276,7 @@ def test_conslaw_run_with_a_bad_2d_key_is_one_line_exit_2(
 
 def test_the_2d_models_and_scheme_are_registered() -> None:
     assert {"shallow-water-2d", "burgers-2d"} <= set(registry.models.names())
-    assert registry.schemes_2d.names() == ["jiang-tadmor"]
+    assert registry.schemes_2d.names() == ["jiang-tadmor", "jiang-tadmor-ft"]
 
 
 def test_convergence_on_a_2d_scene_measures_orders_and_refuses_without_exact() -> None:
