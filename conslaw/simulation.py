@@ -181,7 +181,7 @@ def simulate(
         if notice is not None and scheme.needs_compile():
             notice(
                 f"compiling the {scene.scheme} kernels for {kernel_label(scene, model)} (the "
-                "first run of this kind only, about half a minute; cached for later runs)"
+                "first run of this kind only, about 15 s; cached for later runs)"
             )
         started = time.perf_counter()
         scheme.compile(initial)

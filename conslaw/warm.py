@@ -1,6 +1,6 @@
 """Compile the kernels of a set of scenes ahead of their first run (``conslaw warm``).
 
-A first run of a model compiles its kernels for about half a minute (docs/performance.md). This
+A first run of a model compiles its kernels for about 15 s (docs/performance.md). This
 compiles every kernel family the scenes need, each once (scenes that share a kernel are grouped
 by the name of their generated module), in parallel processes, so that later runs load them
 from the cache.

@@ -72,12 +72,17 @@ class MarginTracker:
     level : ndarray or None
         The signed distance to the margin (positive inside, length units) at the cell centres,
         ``(ny, nx)``; None before a start.
+    reached : ndarray of bool
+        The cells the last :meth:`velocity` gave the flow's velocity (within
+        :data:`EXTRAPOLATION_LAYERS` layers of trusted cells); after a pair the region keeps
+        none that neither end of it reached.
     """
 
     def __init__(self, grid: Grid2D, depth: int, momentum_x: int, momentum_y: int) -> None:
         self.grid = grid
         self.depth, self.momenta = depth, (momentum_x, momentum_y)
         self.level: Array | None = None
+        self.reached = np.zeros(grid.shape, dtype=bool)
 
     def start_from_values(self, q: Array) -> None:
         """The region of the cells of ``q`` with a positive depth, its margin half-way between
@@ -141,15 +146,18 @@ class MarginTracker:
             self.start_from_values(before)
         assert self.level is not None
         u_start, v_start = self.velocity(before)
+        reached = self.reached
         u_end, v_end = self.velocity(after)
-        self.level = reinitialised(
-            advected(
-                self.level,
-                0.5 * (u_start + u_end) * elapsed / self.grid.dx,
-                0.5 * (v_start + v_end) * elapsed / self.grid.dy,
-            ),
-            (self.grid.dy, self.grid.dx),
+        reached = reached | self.reached
+        level = advected(
+            self.level,
+            0.5 * (u_start + u_end) * elapsed / self.grid.dx,
+            0.5 * (v_start + v_end) * elapsed / self.grid.dy,
         )
+        # The region keeps no cell the flow's velocity does not reach: material has left it.
+        cell = min(self.grid.dx, self.grid.dy)
+        level = np.where((level > 0.0) & ~reached, -cell, level)
+        self.level = reinitialised(level, (self.grid.dy, self.grid.dx))
         return self.gather(after)
 
     def velocity(self, q: Array) -> tuple[Array, Array]:
@@ -182,31 +190,44 @@ class MarginTracker:
         h = q[self.depth]
         deepest = float(np.max(h))
         still = np.zeros_like(h), np.zeros_like(h)
+        self.reached = np.zeros(h.shape, dtype=bool)
         if not deepest > 0.0:
             return still
-        spacing = (self.grid.dy, self.grid.dx)
         moving = h >= VELOCITY_DEPTH_SHARE * deepest
         if self.level is not None:
             moving &= self.level > 0.0
         if not np.any(moving):
             return still
-        inward = ndimage.distance_transform_edt(moving, sampling=spacing) / max(spacing)
+        # Only the cells within reach of the extrapolation are computed: those further out
+        # are zero either way.
+        window = _window(moving, EXTRAPOLATION_LAYERS + 1)
+        spacing = (self.grid.dy, self.grid.dx)
+        inward = ndimage.distance_transform_edt(moving[window], sampling=spacing) / max(spacing)
         trusted = inward >= min(TRUSTED_DEPTH, float(np.max(inward)))
-        linear, constant = [], []
-        for row in self.momenta:
-            u = np.where(trusted, q[row], 0.0) / np.where(trusted, h, 1.0)
-            linear.append(_extrapolated(u, trusted, sloped=True))
-            constant.append(_extrapolated(u, trusted, sloped=False))
+        velocities = [
+            np.where(trusted, q[row][window], 0.0) / np.where(trusted, h[window], 1.0)
+            for row in self.momenta
+        ]
+        linear, constant, reached = _extrapolated(velocities, trusted)
+        self.reached[window] = reached
         if self.level is None:
-            return linear[0], linear[1]
-        # Outward normal speeds: a margin the extrapolation would slow (a compressed front, a
-        # bore) keeps the speed of the flow behind it instead.
-        edge = np.pad(self.level, 1, mode="edge")
-        outward_x = -(edge[1:-1, 2:] - edge[1:-1, :-2]) / self.grid.dx
-        outward_y = -(edge[2:, 1:-1] - edge[:-2, 1:-1]) / self.grid.dy
-        faster = (linear[0] - constant[0]) * outward_x + (linear[1] - constant[1]) * outward_y
-        take = faster >= 0.0
-        return np.where(take, linear[0], constant[0]), np.where(take, linear[1], constant[1])
+            chosen = linear
+        else:
+            # The flow's own velocity in every cell deep enough to carry one, carried out
+            # unchanged: a margin that spreads fastest at its edge (a released block) moves
+            # with its edge.
+            near = moving[window]
+            own = [
+                np.where(near, q[row][window], 0.0) / np.where(near, h[window], 1.0)
+                for row in self.momenta
+            ]
+            _, edge_velocity, _ = _extrapolated(own, near)
+            chosen = _fastest_outward(
+                [linear, constant, edge_velocity], self.level[window], self.grid
+            )
+        u, v = still
+        u[window], v[window] = chosen
+        return u, v
 
     def gather(self, q: Array) -> bool:
         """Move, in place, the material of ``q`` outside the region into it: each outside cell
@@ -254,6 +275,33 @@ class MarginTracker:
         raise RuntimeError("material is left outside the tracked margins")
 
 
+def _fastest_outward(candidates: list[list[Array]], level: Array, grid: Grid2D) -> list[Array]:
+    """Per cell, the candidate velocity ``[u, v]`` with the largest speed along the outward
+    normal ``-grad level`` (central differences; the first of equal ones)."""
+    edge = np.pad(level, 1, mode="edge")
+    outward_x = -(edge[1:-1, 2:] - edge[1:-1, :-2]) / grid.dx
+    outward_y = -(edge[2:, 1:-1] - edge[:-2, 1:-1]) / grid.dy
+    best = candidates[0]
+    best_speed = best[0] * outward_x + best[1] * outward_y
+    for candidate in candidates[1:]:
+        speed = candidate[0] * outward_x + candidate[1] * outward_y
+        faster = speed > best_speed
+        best = [np.where(faster, c, b) for c, b in zip(candidate, best, strict=True)]
+        best_speed = np.where(faster, speed, best_speed)
+    return best
+
+
+def _window(mask: NDArray[np.bool_], margin: int) -> tuple[slice, slice]:
+    """The rows and columns of the smallest box holding every True cell of ``mask``, widened
+    by ``margin`` cells on each side within the array."""
+    rows = np.flatnonzero(np.any(mask, axis=1))
+    columns = np.flatnonzero(np.any(mask, axis=0))
+    return (
+        slice(max(int(rows[0]) - margin, 0), int(rows[-1]) + margin + 1),
+        slice(max(int(columns[0]) - margin, 0), int(columns[-1]) + margin + 1),
+    )
+
+
 def _trusted_differences(u: Array, trusted: NDArray[np.bool_]) -> tuple[Array, Array]:
     """The changes of ``u`` per cell along x and along y at the trusted cells: central
     differences where both neighbours are trusted, one-sided where one is, 0 where none is (and
@@ -271,56 +319,49 @@ def _trusted_differences(u: Array, trusted: NDArray[np.bool_]) -> tuple[Array, A
     return differences[0], differences[1]
 
 
-def _extrapolated(u: Array, trusted: NDArray[np.bool_], sloped: bool) -> Array:
-    """``u`` at the ``trusted`` cells, extrapolated beyond them (linearly if ``sloped``, else
-    as a constant) over :data:`EXTRAPOLATION_LAYERS` layers of 4-neighbours and zero further
-    out (see :meth:`MarginTracker.velocity`); the neighbours' contributions are summed in
-    mirror pairs."""
-    if sloped:
+def _extrapolated(
+    velocities: list[Array], trusted: NDArray[np.bool_]
+) -> tuple[list[Array], list[Array], NDArray[np.bool_]]:
+    """Each of ``velocities`` at the ``trusted`` cells, extrapolated beyond them linearly and
+    as a constant over :data:`EXTRAPOLATION_LAYERS` layers of 4-neighbours and zero further
+    out (see :meth:`MarginTracker.velocity`): ``(linear, constant, reached)``, one array per
+    velocity in each of the first two, and the cells the layers reached. All are carried
+    through the layers together, as channels of one array (per velocity: the linear value, its
+    gradient along x and y, the constant value); the neighbours' guesses are summed in mirror
+    pairs."""
+    channels = []
+    for u in velocities:
         slope_x, slope_y = _trusted_differences(u, trusted)
-    else:
-        slope_x, slope_y = np.zeros_like(u), np.zeros_like(u)
-    values, known = u.copy(), trusted.copy()
+        channels += [u, slope_x, slope_y, u]
+    values = np.stack(channels)
+    linear = np.arange(0, values.shape[0], 4)
+    known = trusted.copy()
     for _ in range(EXTRAPOLATION_LAYERS):
-        if np.all(known):
-            break
-        padded = [np.pad(array, 1) for array in (values, slope_x, slope_y)]
+        padded = np.pad(values, ((0, 0), (1, 1), (1, 1)))
         have = np.pad(known, 1)
-        value, gx, gy = padded
-        # Each neighbour's guess of this cell: its value plus its gradient times the step here.
-        guesses = (
-            (have[1:-1, :-2], value[1:-1, :-2] + gx[1:-1, :-2], 1),  # from the west
-            (have[1:-1, 2:], value[1:-1, 2:] - gx[1:-1, 2:], 1),  # from the east
-            (have[:-2, 1:-1], value[:-2, 1:-1] + gy[:-2, 1:-1], 2),  # from the south
-            (have[2:, 1:-1], value[2:, 1:-1] - gy[2:, 1:-1], 2),  # from the north
+        guesses = []
+        # Each neighbour's guess of this cell: its channels, the linear value plus its
+        # gradient times the step here (+1 column from the west, -1 from the east, ...).
+        for rows, columns, slope, sign in (
+            (slice(1, -1), slice(None, -2), 1, 1.0),  # from the west
+            (slice(1, -1), slice(2, None), 1, -1.0),  # from the east
+            (slice(None, -2), slice(1, -1), 2, 1.0),  # from the south
+            (slice(2, None), slice(1, -1), 2, -1.0),  # from the north
+        ):
+            neighbour = padded[:, rows, columns].copy()
+            neighbour[linear] += sign * neighbour[linear + slope]
+            guesses.append(np.where(have[rows, columns], neighbour, 0.0))
+        count = (
+            have[1:-1, :-2].astype(np.float64) + have[1:-1, 2:] + have[:-2, 1:-1] + have[2:, 1:-1]
         )
-        neighbours = [
-            (
-                np.where(mask, guess, 0.0),
-                np.where(mask, source_x, 0.0),
-                np.where(mask, source_y, 0.0),
-            )
-            for (mask, guess, _), source_x, source_y in zip(
-                guesses,
-                (gx[1:-1, :-2], gx[1:-1, 2:], gx[:-2, 1:-1], gx[2:, 1:-1]),
-                (gy[1:-1, :-2], gy[1:-1, 2:], gy[:-2, 1:-1], gy[2:, 1:-1]),
-                strict=True,
-            )
-        ]
-        count = sum(mask.astype(np.float64) for mask, _, _ in guesses)
         layer = ~known & (count > 0.0)
         if not np.any(layer):
             break
-        totals = [
-            (neighbours[0][k] + neighbours[1][k]) + (neighbours[2][k] + neighbours[3][k])
-            for k in range(3)
-        ]
-        share = np.where(layer, 1.0 / np.maximum(count, 1.0), 0.0)
-        values = np.where(layer, totals[0] * share, values)
-        slope_x = np.where(layer, totals[1] * share, slope_x)
-        slope_y = np.where(layer, totals[2] * share, slope_y)
+        total = (guesses[0] + guesses[1]) + (guesses[2] + guesses[3])
+        values = np.where(layer, total / np.maximum(count, 1.0), values)
         known |= layer
-    return np.where(known, values, 0.0)
+    values = np.where(known, values, 0.0)
+    return [values[k] for k in linear], [values[k + 3] for k in linear], known
 
 
 def _received(given: Array, chosen: NDArray[np.bool_]) -> Array:
@@ -365,10 +406,14 @@ def signed_distance(covered: NDArray[np.bool_], spacing: tuple[float, float]) ->
 
 def reinitialised(level: Array, spacing: tuple[float, float]) -> Array:
     """``level`` made a signed distance again near its zero contour, which it keeps: each cell
-    with a 4-neighbour of the other sign takes ``level / |grad level|`` (central differences,
-    at most one cell in size, its sign kept), and the cells within :data:`BAND` cells of those
-    the distance through 8-neighbours (a chamfer distance, exact along the axes and
-    diagonals); cells further out take ``-+(BAND + 1)`` cells.
+    with a 4-neighbour of the other sign takes ``|level| / |grad level|`` (central differences)
+    or, where it is one cell thin (the other sign on both sides along an axis, where central
+    differences see no slope), its distance to the line through the nearest zero crossings
+    along x and along y (each interpolated linearly towards a neighbour of the other sign;
+    ``a b / sqrt(a^2 + b^2)`` for crossings ``a`` and ``b``, the one alone where there is one);
+    at most a cell, its sign kept. The cells within :data:`BAND` cells of those take the
+    distance through 8-neighbours (a chamfer distance, exact along the axes and diagonals);
+    cells further out take ``-+(BAND + 1)`` cells.
 
     Parameters
     ----------
@@ -387,21 +432,43 @@ def reinitialised(level: Array, spacing: tuple[float, float]) -> Array:
         return level
     dy, dx = spacing
     cell = min(spacing)
+    far = (BAND + 1) * cell
+    # Where the zero crosses to each 4-neighbour of the other sign (linear interpolation): the
+    # nearest crossing along x and along y, and whether both sides along one axis cross.
+    size = np.abs(level)
+    padded_size = np.pad(size, 1, constant_values=np.inf)
     padded_inside = np.pad(inside, 1, mode="edge")
-    across = (
-        (padded_inside[1:-1, :-2] != inside)
-        | (padded_inside[1:-1, 2:] != inside)
-        | (padded_inside[:-2, 1:-1] != inside)
-        | (padded_inside[2:, 1:-1] != inside)
-    )
+    crossings, thin = [], np.zeros(level.shape, dtype=bool)
+    for step, neighbours in (
+        (dx, ((slice(1, -1), slice(None, -2)), (slice(1, -1), slice(2, None)))),
+        (dy, ((slice(None, -2), slice(1, -1)), (slice(2, None), slice(1, -1)))),
+    ):
+        nearest = np.full(level.shape, np.inf)
+        sides = np.zeros(level.shape, dtype=np.int64)
+        for rows, columns in neighbours:
+            other = padded_inside[rows, columns] != inside
+            with np.errstate(invalid="ignore"):
+                share = size / (size + padded_size[rows, columns])
+            nearest = np.where(other, np.minimum(nearest, share * step), nearest)
+            sides += other
+        crossings.append(nearest)
+        thin |= sides == 2
+    along_x, along_y = crossings
+    across = np.isfinite(along_x) | np.isfinite(along_y)
+    # Across a smooth margin: |level| / |grad level| (central differences); across a feature
+    # one cell thin, where central differences see no slope: the distance to the line through
+    # the crossings, a b / sqrt(a^2 + b^2) (the one crossing alone where there is one).
     edge = np.pad(level, 1, mode="edge")
     gradient = np.hypot(
         0.5 * (edge[1:-1, 2:] - edge[1:-1, :-2]) / dx, 0.5 * (edge[2:, 1:-1] - edge[:-2, 1:-1]) / dy
     )
-    far = (BAND + 1) * cell
-    steep = gradient * cell > np.abs(level)
-    near = np.where(steep, np.abs(level) / np.where(steep, gradient, 1.0), cell)
-    near = np.maximum(near, np.finfo(np.float64).tiny)
+    steep = gradient * cell > size
+    smooth = np.where(steep, size / np.where(steep, gradient, 1.0), cell)
+    both = np.isfinite(along_x) & np.isfinite(along_y)
+    with np.errstate(invalid="ignore"):
+        oblique = along_x * along_y / np.hypot(along_x, along_y)
+    lines = np.where(both, oblique, np.minimum(along_x, along_y))
+    near = np.clip(np.where(thin, lines, smooth), np.finfo(np.float64).tiny, cell)
     distance = np.where(across, near, far)
     steps = [
         (rows, columns, math.hypot(rows * dy, columns * dx))
