@@ -268,6 +268,8 @@ def _print_summary_2d(scene: Scene2D, result: Any) -> None:
         print(f"  relative change of conserved totals from t=0 ({where}): {drift}")
     lowest = min(float(state.q[0].min()) for state in result.states)
     print(f"  smallest {result.model.variables[0]} at the outputs: {lowest:.3g}")
+    for note in result.scheme_notes:
+        print(f"  note: {note}")
     momenta = [v for v in (model.momentum_index, model.momentum_y_index) if v is not None]
     if momenta:
         largest = ", ".join(

@@ -48,6 +48,9 @@ class RunResult2D:
     peaks : PeakFields or None
         The largest flow depth and speed of every cell over the run, updated after every step
         pair (None for a model without a depth; :mod:`conslaw.peak_fields`).
+    scheme_notes : list of str
+        What the scheme tells of the run so far (the tracked margins of ``jiang-tadmor-ft``
+        lagging the material), one line each.
     steps : int
         Time steps taken.
     solve_seconds, compile_seconds : float
@@ -64,6 +67,7 @@ class RunResult2D:
     exact_solution: ExactSolution2D | None = None
     exact_note: str | None = None
     peaks: PeakFields | None = None
+    scheme_notes: list[str] = field(default_factory=list)
     steps: int = 0
     solve_seconds: float = 0.0
     compile_seconds: float = 0.0

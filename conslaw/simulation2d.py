@@ -156,6 +156,7 @@ def simulate_2d(
                 result.solve_seconds += time.perf_counter() - started
                 result.steps += steps
             _record(result, State2D(t, q))
+            result.scheme_notes = list(getattr(scheme, "notes", list)())
             if on_output is not None:
                 on_output(result)
             last_output = t

@@ -7,17 +7,18 @@ film of depth ``1e-6`` and less runs cells ahead of a margin that should move wi
 (a granular margin is material: it moves with the velocity of the flow there; Savage & Hutter
 1991, Hutter et al. 1993). The tracker keeps the covered region as ``{level > 0}`` of a signed
 distance ``level`` (positive inside, in length units), moved after every step pair by the
-advection equation of a material surface (Osher & Sethian 1988)::
+advection equation of a material surface (Osher & Sethian 1988; Osher & Fedkiw 2003, ch. 3)::
 
     d level / dt + u . grad level = 0,
 
-with ``u`` the flow's velocity where the depth is at least :data:`VELOCITY_DEPTH_SHARE` of the
-deepest cell and that of the nearest such cell elsewhere, taken as the mean of the pair's start
-and end (a semi-Lagrangian step: ``level`` at the foot of the characteristic, interpolated
-bilinearly, exact for a plane level). Material the step put outside is then moved, mass and
-momenta together, to the 4-neighbour nearer the covered region (split equally between equally
-near ones), again until none is outside: totals are kept to round-off and no depth becomes
-negative.
+in one semi-Lagrangian step (:func:`advected`) with the mean of the pair's start and end
+velocity fields (:meth:`MarginTracker.velocity`: the flow's velocity trusted a few cells inside
+the region and extrapolated out to it). Region cells no velocity reaches are dropped, the level
+is made a signed distance again near its zero (:func:`reinitialised`), and material the step
+put outside is moved, mass and momenta together, to the 4-neighbour nearer the region (split
+equally between equally near ones), again until none is outside (:meth:`MarginTracker.gather`):
+totals are kept to round-off, no depth becomes negative, and nothing moves more than
+:data:`MAX_GATHER` cells.
 
 The region starts as the initial data's covered region resolved on a grid :data:`REFINE` times
 finer (:meth:`MarginTracker.start_from_initial`), so the margin starts within an eighth of a cell
@@ -33,6 +34,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import ndimage
 
+from conslaw.errors import ConfigError, SchemeBreakdownError
 from conslaw.grid2d import Grid2D
 
 if TYPE_CHECKING:
@@ -42,8 +44,13 @@ Array = NDArray[np.float64]
 
 #: Sub-cells per direction on which the initial data's covered region is found.
 REFINE = 4
-#: Share of the deepest cell's depth from which a cell's velocity may move the level set.
+#: Most cells of that finer grid (beyond, the region starts from the cell averages).
+MAX_REFINED_CELLS = 2**22
+#: Share of the deepest depth within :data:`LOCAL_REACH` cells from which a cell's velocity
+#: may move the level set (a cell deep enough to carry one).
 VELOCITY_DEPTH_SHARE = 1e-3
+#: Cells around a cell (each way) whose deepest depth decides whether it carries a velocity.
+LOCAL_REACH = 8
 #: Cells inside the region from which the flow's velocity is trusted to move the margin.
 TRUSTED_DEPTH = 3.5
 #: Layers of 4-neighbours beyond the trusted cells over which their velocity is extrapolated
@@ -52,8 +59,8 @@ TRUSTED_DEPTH = 3.5
 EXTRAPOLATION_LAYERS = 12
 #: Cells from the margin over which the level set is kept a signed distance after every pair.
 BAND = 4
-#: Most sweeps of gathering: material further out than this many cells is a tracker failure.
-MAX_SWEEPS = 64
+#: Cells from the region beyond which material is not gathered: its cells join the region.
+MAX_GATHER = 3
 
 
 class MarginTracker:
@@ -76,6 +83,13 @@ class MarginTracker:
         The cells the last :meth:`velocity` gave the flow's velocity (within
         :data:`EXTRAPOLATION_LAYERS` layers of trusted cells); after a pair the region keeps
         none that neither end of it reached.
+    joined : int
+        Cells that joined the region because material lay more than :data:`MAX_GATHER` cells
+        outside it (the margin had lagged the material), over the tracker's life.
+    largest_gathered : float
+        The largest share of the total depth gathered back in one step pair so far: a film
+        left by the scheme's averaging is well under 1 % (0.3 % on the similarity cap at
+        96 x 60), more is material the margin lagged.
     """
 
     def __init__(self, grid: Grid2D, depth: int, momentum_x: int, momentum_y: int) -> None:
@@ -83,6 +97,8 @@ class MarginTracker:
         self.depth, self.momenta = depth, (momentum_x, momentum_y)
         self.level: Array | None = None
         self.reached = np.zeros(grid.shape, dtype=bool)
+        self.joined = 0
+        self.largest_gathered = 0.0
 
     def start_from_values(self, q: Array) -> None:
         """The region of the cells of ``q`` with a positive depth, its margin half-way between
@@ -95,10 +111,12 @@ class MarginTracker:
         """
         self.level = signed_distance(q[self.depth] > 0.0, (self.grid.dy, self.grid.dx))
 
-    def start_from_initial(self, initial: Any, model: Model) -> None:
+    def start_from_initial(self, initial: Any, model: Model, q: Array) -> None:
         """The region covered by the initial data, found from its cell averages on a grid
         :data:`REFINE` times finer in each direction and read at this grid's centres (each the
-        corner of four fine cells: their mean).
+        corner of four fine cells: their mean); every cell ``q`` covers is inside. Where the
+        finer grid would exceed :data:`MAX_REFINED_CELLS` cells or the initial data refuse it
+        (a release too narrow for its cells), :meth:`start_from_values`.
 
         Parameters
         ----------
@@ -106,8 +124,14 @@ class MarginTracker:
             The scene's initial condition (its ``cell_averages``).
         model : Model
             The model it is built for.
+        q : ndarray
+            Its cell averages on this grid, ``(n_vars, ny, nx)``.
         """
         grid = self.grid
+        covered = q[self.depth] > 0.0
+        if REFINE**2 * covered.size > MAX_REFINED_CELLS:
+            self.start_from_values(q)
+            return
         fine = Grid2D.from_bounds(
             grid.x.x_min,
             grid.x.x_max,
@@ -116,15 +140,23 @@ class MarginTracker:
             grid.y.x_max,
             REFINE * grid.y.n_cells,
         )
-        covered = initial.cell_averages(fine, model)[self.depth] > 0.0
-        level = signed_distance(covered, (fine.dy, fine.dx))
+        try:
+            fine_covered = initial.cell_averages(fine, model)[self.depth] > 0.0
+        except ConfigError:
+            self.start_from_values(q)
+            return
+        level = signed_distance(fine_covered, (fine.dy, fine.dx))
         half = REFINE // 2
         corners = [
             level[rows::REFINE, columns::REFINE]
             for rows in (half - 1, half)
             for columns in (half - 1, half)
         ]
-        self.level = 0.25 * ((corners[0] + corners[3]) + (corners[1] + corners[2]))
+        level = 0.25 * ((corners[0] + corners[3]) + (corners[1] + corners[2]))
+        # A covered cell whose corners read outside (its material in a sliver) is inside, its
+        # margin at the cell.
+        smallest = np.finfo(np.float64).tiny
+        self.level = np.where(covered & (level <= 0.0), smallest, level)
 
     def follow(self, before: Array, after: Array, elapsed: float) -> bool:
         """Move the region over a step pair of length ``elapsed`` from ``before`` to ``after``,
@@ -155,7 +187,7 @@ class MarginTracker:
             0.5 * (v_start + v_end) * elapsed / self.grid.dy,
         )
         # The region keeps no cell the flow's velocity does not reach: material has left it.
-        cell = min(self.grid.dx, self.grid.dy)
+        cell = max(self.grid.dx, self.grid.dy)
         level = np.where((level > 0.0) & ~reached, -cell, level)
         self.level = reinitialised(level, (self.grid.dy, self.grid.dx))
         return self.gather(after)
@@ -193,14 +225,14 @@ class MarginTracker:
         self.reached = np.zeros(h.shape, dtype=bool)
         if not deepest > 0.0:
             return still
-        moving = h >= VELOCITY_DEPTH_SHARE * deepest
-        if self.level is not None:
-            moving &= self.level > 0.0
+        local = ndimage.maximum_filter(h, size=2 * LOCAL_REACH + 1, mode="constant")
+        carrying = (h > 0.0) & (h >= VELOCITY_DEPTH_SHARE * local)
+        moving = carrying if self.level is None else carrying & (self.level > 0.0)
         if not np.any(moving):
             return still
         # Only the cells within reach of the extrapolation are computed: those further out
         # are zero either way.
-        window = _window(moving, EXTRAPOLATION_LAYERS + 1)
+        window = _window(carrying, EXTRAPOLATION_LAYERS + 1)
         spacing = (self.grid.dy, self.grid.dx)
         inward = ndimage.distance_transform_edt(moving[window], sampling=spacing) / max(spacing)
         trusted = inward >= min(TRUSTED_DEPTH, float(np.max(inward)))
@@ -213,10 +245,10 @@ class MarginTracker:
         if self.level is None:
             chosen = linear
         else:
-            # The flow's own velocity in every cell deep enough to carry one, carried out
-            # unchanged: a margin that spreads fastest at its edge (a released block) moves
-            # with its edge.
-            near = moving[window]
+            # The flow's own velocity in every cell deep enough to carry one, in the region or
+            # out, carried out unchanged: a margin that spreads fastest at its edge (a released
+            # block) moves with its edge.
+            near = carrying[window]
             own = [
                 np.where(near, q[row][window], 0.0) / np.where(near, h[window], 1.0)
                 for row in self.momenta
@@ -232,7 +264,9 @@ class MarginTracker:
     def gather(self, q: Array) -> bool:
         """Move, in place, the material of ``q`` outside the region into it: each outside cell
         holding any gives all of its values to the 4-neighbours nearest the region (equal
-        shares to equally near ones), sweep after sweep until none is left outside.
+        shares to equally near ones), sweep after sweep until none is left outside. Material
+        more than :data:`MAX_GATHER` cells out is not moved: its cells join the region (the
+        margin lagged it; counted in :attr:`joined`), so nothing moves further than that.
 
         Parameters
         ----------
@@ -243,28 +277,37 @@ class MarginTracker:
         -------
         bool
             Whether anything was moved.
-
-        Raises
-        ------
-        RuntimeError
-            If material is left outside after :data:`MAX_SWEEPS` sweeps (cannot happen while
-            the region is not empty: every outside cell has a neighbour nearer it).
         """
         assert self.level is not None
+        spacing = (self.grid.dy, self.grid.dx)
+        holding = np.any(q != 0.0, axis=0)
         inside = self.level > 0.0
-        if not np.any(inside):
+        if not np.any(holding & ~inside):
             return False
-        distance = ndimage.distance_transform_edt(~inside, sampling=(self.grid.dy, self.grid.dx))
+        distance = ndimage.distance_transform_edt(~inside, sampling=spacing)
+        far = holding & (distance > MAX_GATHER * max(spacing))
+        if np.any(far):
+            self.joined += int(np.count_nonzero(far))
+            self.level = np.where(far, 0.5 * min(spacing), self.level)
+            inside = self.level > 0.0
+            distance = ndimage.distance_transform_edt(~inside, sampling=spacing)
         padded = np.pad(distance, 1, constant_values=np.inf)
         # The neighbours' distances: west, east, south, north.
         around = np.stack(
             [padded[1:-1, :-2], padded[1:-1, 2:], padded[:-2, 1:-1], padded[2:, 1:-1]]
         )
-        nearest = np.min(around, axis=0)
-        chosen = around == nearest
+        chosen = around == np.min(around, axis=0)
         shares = 1.0 / np.sum(chosen, axis=0)
+        depth = q[self.depth]
+        total = float(np.sum(depth))
+        if total > 0.0:
+            share = float(np.sum(depth[~inside])) / total
+            self.largest_gathered = max(self.largest_gathered, share)
         moved = False
-        for _ in range(MAX_SWEEPS):
+        # Every outside cell has a 4-neighbour nearer the region: material within MAX_GATHER
+        # of the larger cell size reaches it in fewer steps than this many.
+        aspect = math.ceil(max(spacing) / min(spacing))
+        for _ in range(2 * MAX_GATHER * aspect + 2):
             holding = ~inside & np.any(q != 0.0, axis=0)
             if not np.any(holding):
                 return moved
@@ -272,7 +315,7 @@ class MarginTracker:
             given = np.where(holding, q * shares, 0.0)
             q[:, holding] = 0.0
             q += _received(given, chosen & holding)
-        raise RuntimeError("material is left outside the tracked margins")
+        raise SchemeBreakdownError("material is left outside the tracked margins")
 
 
 def _fastest_outward(candidates: list[list[Array]], level: Array, grid: Grid2D) -> list[Array]:
@@ -380,7 +423,10 @@ def _received(given: Array, chosen: NDArray[np.bool_]) -> Array:
 
 def signed_distance(covered: NDArray[np.bool_], spacing: tuple[float, float]) -> Array:
     """The signed distance of cell centres to the boundary of the ``covered`` cells, taken
-    half-way between a covered and a bare centre: positive inside, negative outside.
+    half-way between a covered and a bare centre: positive inside, negative outside,
+    ``d(c) - s/2`` for a covered centre ``c`` whose nearest bare centre is ``d(c)`` away (and
+    the mirror of it outside), ``s`` the smaller cell size; the Euclidean distances are
+    scipy's exact transform (``scipy.ndimage.distance_transform_edt``).
 
     Parameters
     ----------
@@ -392,12 +438,12 @@ def signed_distance(covered: NDArray[np.bool_], spacing: tuple[float, float]) ->
     Returns
     -------
     ndarray
-        ``(ny, nx)``; all ``+inf`` if every cell is covered, ``-inf`` if none is.
+        ``(ny, nx)``; ``+-(BAND + 1)`` of the larger cell size everywhere if every cell is
+        covered or none is.
     """
-    if np.all(covered):
-        return np.full(covered.shape, np.inf)
-    if not np.any(covered):
-        return np.full(covered.shape, -np.inf)
+    if np.all(covered) or not np.any(covered):
+        far = (BAND + 1) * max(spacing)
+        return np.full(covered.shape, far if np.all(covered) else -far)
     half = 0.5 * min(spacing)
     inner = ndimage.distance_transform_edt(covered, sampling=spacing)
     outer = ndimage.distance_transform_edt(~covered, sampling=spacing)
@@ -411,9 +457,12 @@ def reinitialised(level: Array, spacing: tuple[float, float]) -> Array:
     differences see no slope), its distance to the line through the nearest zero crossings
     along x and along y (each interpolated linearly towards a neighbour of the other sign;
     ``a b / sqrt(a^2 + b^2)`` for crossings ``a`` and ``b``, the one alone where there is one);
-    at most a cell, its sign kept. The cells within :data:`BAND` cells of those take the
+    at most a cell, its sign kept (the sub-cell rule of Russo & Smereka 2000, which keeps the
+    zero where it was). The cells within :data:`BAND` cells of those take the
     distance through 8-neighbours (a chamfer distance, exact along the axes and diagonals);
-    cells further out take ``-+(BAND + 1)`` cells.
+    cells further out take ``-+(BAND + 1)`` cells. The chamfer pass is written here because
+    scipy's transforms start from a mask, not from the sub-cell distances of the cells at the
+    margin (Borgefors 1986 for chamfer distances).
 
     Parameters
     ----------
@@ -430,9 +479,36 @@ def reinitialised(level: Array, spacing: tuple[float, float]) -> Array:
     inside = level > 0.0
     if np.all(inside) or not np.any(inside):
         return level
+    far = (BAND + 1) * max(spacing)
+    near, across = _margin_distances(level, inside, spacing)
+    distance = np.where(across, near, far)
     dy, dx = spacing
-    cell = min(spacing)
-    far = (BAND + 1) * cell
+    steps = [
+        (rows, columns, math.hypot(rows * dy, columns * dx))
+        for rows in (-1, 0, 1)
+        for columns in (-1, 0, 1)
+        if rows or columns
+    ]
+    for _ in range(BAND):
+        padded = np.pad(distance, 1, constant_values=far)
+        shorter = [
+            padded[
+                1 + rows : padded.shape[0] - 1 + rows, 1 + columns : padded.shape[1] - 1 + columns
+            ]
+            + step
+            for rows, columns, step in steps
+        ]
+        distance = np.minimum(distance, np.minimum.reduce(shorter))
+    return np.where(inside, distance, -distance)
+
+
+def _margin_distances(
+    level: Array, inside: NDArray[np.bool_], spacing: tuple[float, float]
+) -> tuple[Array, NDArray[np.bool_]]:
+    """The distance to the zero of ``level`` of every cell with a 4-neighbour of the other sign
+    (see :func:`reinitialised`), and where those cells are."""
+    dy, dx = spacing
+    cell = max(spacing)
     # Where the zero crosses to each 4-neighbour of the other sign (linear interpolation): the
     # nearest crossing along x and along y, and whether both sides along one axis cross.
     size = np.abs(level)
@@ -469,30 +545,15 @@ def reinitialised(level: Array, spacing: tuple[float, float]) -> Array:
         oblique = along_x * along_y / np.hypot(along_x, along_y)
     lines = np.where(both, oblique, np.minimum(along_x, along_y))
     near = np.clip(np.where(thin, lines, smooth), np.finfo(np.float64).tiny, cell)
-    distance = np.where(across, near, far)
-    steps = [
-        (rows, columns, math.hypot(rows * dy, columns * dx))
-        for rows in (-1, 0, 1)
-        for columns in (-1, 0, 1)
-        if rows or columns
-    ]
-    for _ in range(BAND):
-        padded = np.pad(distance, 1, constant_values=far)
-        shorter = [
-            padded[
-                1 + rows : padded.shape[0] - 1 + rows, 1 + columns : padded.shape[1] - 1 + columns
-            ]
-            + step
-            for rows, columns, step in steps
-        ]
-        distance = np.minimum(distance, np.minimum.reduce(shorter))
-    return np.where(inside, distance, -distance)
+    return near, across
 
 
 def advected(level: Array, shift_x: Array, shift_y: Array) -> Array:
-    """``level`` moved by a semi-Lagrangian step: its bilinear interpolant at the feet
-    ``(column - shift_x, row - shift_y)`` of the characteristics (shifts in cells); values
-    beyond the grid those of its nearest edge cell.
+    """``level`` moved by a semi-Lagrangian step of ``d level/dt + u . grad level = 0``:
+    ``level_new(x) = level(x - u dt)``, its bilinear interpolant (scipy's
+    ``ndimage.map_coordinates``, order 1) at the feet ``(column - shift_x, row - shift_y)`` of
+    the characteristics (shifts ``u dt`` in cells; Staniforth & Côté 1991); values beyond the
+    grid those of its nearest edge cell. Exact for a plane ``level``.
 
     Parameters
     ----------
@@ -506,8 +567,6 @@ def advected(level: Array, shift_x: Array, shift_y: Array) -> Array:
     ndarray
         The new level, ``(ny, nx)``.
     """
-    if not np.all(np.isfinite(level)):
-        return level
     rows, columns = np.indices(level.shape, dtype=np.float64)
     return ndimage.map_coordinates(
         level, [rows - shift_y, columns - shift_x], order=1, mode="nearest"

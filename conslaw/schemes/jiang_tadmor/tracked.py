@@ -19,6 +19,9 @@ from conslaw.schemes.jiang_tadmor.scheme import Array, JiangTadmor
 
 #: Side kinds the tracker takes: material enters through neither.
 TRACKED_SIDES = ("outflow", "wall")
+#: Share of the total depth gathered back in one step pair above which a run is told that its
+#: margins lagged the material (a film is well under it).
+LAG_NOTE_SHARE = 0.01
 
 
 class JiangTadmorTracked(JiangTadmor):
@@ -98,7 +101,8 @@ class JiangTadmorTracked(JiangTadmor):
         """
         values = super().initial_values(initial)
         if values is None:
-            self.tracker.start_from_initial(initial, self.model)
+            averages = initial.cell_averages(self.grid, self.model)
+            self.tracker.start_from_initial(initial, self.model, averages)
         else:
             self.tracker.start_from_values(values)
         return values
@@ -114,3 +118,25 @@ class JiangTadmorTracked(JiangTadmor):
         if self.tracker.follow(before, after, new_t - t):
             self._load(after, 0)
         return new_t, new_steps
+
+    def notes(self) -> list[str]:
+        """What a run on this scheme should be told: that its tracked margins lagged the
+        material, if more than :data:`LAG_NOTE_SHARE` of the total depth was gathered back in
+        one step pair or material lay more than
+        :data:`~conslaw.schemes.jiang_tadmor.margins.MAX_GATHER` cells out.
+
+        Returns
+        -------
+        list of str
+            One line each (none for a run whose margins followed the material).
+        """
+        tracker = self.tracker
+        if tracker.largest_gathered <= LAG_NOTE_SHARE and tracker.joined == 0:
+            return []
+        return [
+            f"the tracked margins lagged the material: up to {100 * tracker.largest_gathered:.2g}"
+            f" % of it was gathered back in one step pair and {tracker.joined} cells joined "
+            "the region late (a film is well under 1 %); the flow spreads faster at its edges "
+            "than the margins follow (a released block), so compare with scheme jiang-tadmor "
+            '(docs/design.md, "Margins in two dimensions")'
+        ]
