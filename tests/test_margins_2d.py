@@ -383,3 +383,23 @@ def test_a_run_is_told_when_its_margins_lagged_the_material() -> None:
     )
     assert len(block.scheme_notes) == 1
     assert "the tracked margins lagged the material" in block.scheme_notes[0]
+
+
+def test_a_small_body_beside_a_large_one_keeps_its_own_margin() -> None:
+    """A 2 x 2 cell blob 5 cm deep some 20 cells downslope of a 3 m pile: it trusts its own
+    velocity, so its region neither is dropped nor grows like the untracked film (which covers
+    20 cells and more after a second)."""
+    grid = Grid2D.from_bounds(0.0, 200.0, 50, -60.0, 60.0, 30)
+    model = SavageHutterTerrain(phi=30.0, delta=20.0, terrain="plane", zeta=25.0)
+    limiter = registry.reconstructors.get("mc")
+    options = {"centre": [40.0, 0.0], "radii": [24.0, 24.0], "height": 3.0, "thin_layer": 0.0}
+    q = model.initial_cell_averages_2d("pile", options, grid)
+    q[0, 14:16, 35:37] = 0.05
+    plain, _, _ = JiangTadmor(model, limiter, grid, WALLS).advance(q.copy(), 0.0, 1.5)
+    assert np.count_nonzero(plain[0][:, 28:]) >= 20
+    scheme = JiangTadmorTracked(model, limiter, grid, WALLS)
+    end, _, steps = scheme.advance(q.copy(), 0.0, 1.5)
+    assert steps >= 6 and scheme.tracker.joined == 0
+    assert scheme.tracker.level is not None
+    assert 2 <= np.count_nonzero(scheme.tracker.level[:, 28:] > 0.0) <= 8
+    assert 0 < np.count_nonzero(end[0][:, 28:]) <= 8

@@ -87,9 +87,11 @@ class MarginTracker:
         Cells that joined the region because material lay more than :data:`MAX_GATHER` cells
         outside it (the margin had lagged the material), over the tracker's life.
     largest_gathered : float
-        The largest share of the total depth gathered back in one step pair so far: a film
-        left by the scheme's averaging is well under 1 % (0.3 % on the similarity cap at
-        96 x 60), more is material the margin lagged.
+        The largest share of the total depth gathered back in one step pair so far.
+    gathered_shift : float
+        The distances the gathering moved the centre of mass of the depth, summed over the
+        pairs so far (length units): a film gathered from all round a margin hardly moves it,
+        material the margin lagged is pushed back against the flow.
     """
 
     def __init__(self, grid: Grid2D, depth: int, momentum_x: int, momentum_y: int) -> None:
@@ -99,6 +101,7 @@ class MarginTracker:
         self.reached = np.zeros(grid.shape, dtype=bool)
         self.joined = 0
         self.largest_gathered = 0.0
+        self.gathered_shift = 0.0
 
     def start_from_values(self, q: Array) -> None:
         """The region of the cells of ``q`` with a positive depth, its margin half-way between
@@ -234,8 +237,16 @@ class MarginTracker:
         # are zero either way.
         window = _window(carrying, EXTRAPOLATION_LAYERS + 1)
         spacing = (self.grid.dy, self.grid.dx)
-        inward = ndimage.distance_transform_edt(moving[window], sampling=spacing) / max(spacing)
-        trusted = inward >= min(TRUSTED_DEPTH, float(np.max(inward)))
+        near_moving = moving[window]
+        inward = ndimage.distance_transform_edt(near_moving, sampling=spacing) / max(spacing)
+        # Each body of material (8-connected) trusts its cells TRUSTED_DEPTH inside, or its
+        # farthest inside where it is thinner: a small body beside a large one has its own.
+        bodies, count = ndimage.label(near_moving, structure=np.ones((3, 3), dtype=bool))
+        reach = np.zeros(count + 1)
+        reach[1:] = np.minimum(
+            TRUSTED_DEPTH, ndimage.maximum(inward, bodies, np.arange(1, count + 1))
+        )
+        trusted = near_moving & (inward >= reach[bodies])
         velocities = [
             np.where(trusted, q[row][window], 0.0) / np.where(trusted, h[window], 1.0)
             for row in self.momenta
@@ -260,6 +271,17 @@ class MarginTracker:
         u, v = still
         u[window], v[window] = chosen
         return u, v
+
+    def _add_shift(self, before: Array, after: Array, total: float) -> None:
+        """Add to :attr:`gathered_shift` how far gathering moved the centre of mass of the depth
+        (``before`` to ``after``, ``total`` its sum)."""
+        if not total > 0.0:
+            return
+        x, y = self.grid.centres()
+        change = after - before
+        along_x = float(np.sum(change.sum(axis=0) * x)) / total
+        along_y = float(np.sum(change.sum(axis=1) * y)) / total
+        self.gathered_shift += math.hypot(along_x, along_y)
 
     def gather(self, q: Array) -> bool:
         """Move, in place, the material of ``q`` outside the region into it: each outside cell
@@ -298,10 +320,10 @@ class MarginTracker:
         )
         chosen = around == np.min(around, axis=0)
         shares = 1.0 / np.sum(chosen, axis=0)
-        depth = q[self.depth]
-        total = float(np.sum(depth))
+        depth_before = q[self.depth].copy()
+        total = float(np.sum(depth_before))
         if total > 0.0:
-            share = float(np.sum(depth[~inside])) / total
+            share = float(np.sum(depth_before[~inside])) / total
             self.largest_gathered = max(self.largest_gathered, share)
         moved = False
         # Every outside cell has a 4-neighbour nearer the region: material within MAX_GATHER
@@ -310,6 +332,7 @@ class MarginTracker:
         for _ in range(2 * MAX_GATHER * aspect + 2):
             holding = ~inside & np.any(q != 0.0, axis=0)
             if not np.any(holding):
+                self._add_shift(depth_before, q[self.depth], total)
                 return moved
             moved = True
             given = np.where(holding, q * shares, 0.0)

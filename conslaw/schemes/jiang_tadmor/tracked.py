@@ -19,9 +19,11 @@ from conslaw.schemes.jiang_tadmor.scheme import Array, JiangTadmor
 
 #: Side kinds the tracker takes: material enters through neither.
 TRACKED_SIDES = ("outflow", "wall")
-#: Share of the total depth gathered back in one step pair above which a run is told that its
-#: margins lagged the material (a film is well under it).
-LAG_NOTE_SHARE = 0.01
+#: Cells (of the larger size) by which gathering may move the centre of mass of the depth over a
+#: run before the run is told that its margins lagged the material: a film gathered from all
+#: round a margin moves it by a few hundredths of a cell (the similarity cap: 0.05 at 24 x 15,
+#: 0.02 at 48 x 30), material the margin lagged by tenths (terrain-bowl: 0.48).
+LAG_NOTE_CELLS = 0.1
 
 
 class JiangTadmorTracked(JiangTadmor):
@@ -121,8 +123,8 @@ class JiangTadmorTracked(JiangTadmor):
 
     def notes(self) -> list[str]:
         """What a run on this scheme should be told: that its tracked margins lagged the
-        material, if more than :data:`LAG_NOTE_SHARE` of the total depth was gathered back in
-        one step pair or material lay more than
+        material, if gathering moved the centre of mass of the depth by more than
+        :data:`LAG_NOTE_CELLS` cells over the run or material lay more than
         :data:`~conslaw.schemes.jiang_tadmor.margins.MAX_GATHER` cells out.
 
         Returns
@@ -131,12 +133,14 @@ class JiangTadmorTracked(JiangTadmor):
             One line each (none for a run whose margins followed the material).
         """
         tracker = self.tracker
-        if tracker.largest_gathered <= LAG_NOTE_SHARE and tracker.joined == 0:
+        cell = max(self.grid.dx, self.grid.dy)
+        if tracker.gathered_shift <= LAG_NOTE_CELLS * cell and tracker.joined == 0:
             return []
         return [
-            f"the tracked margins lagged the material: up to {100 * tracker.largest_gathered:.2g}"
-            f" % of it was gathered back in one step pair and {tracker.joined} cells joined "
-            "the region late (a film is well under 1 %); the flow spreads faster at its edges "
-            "than the margins follow (a released block), so compare with scheme jiang-tadmor "
-            '(docs/design.md, "Margins in two dimensions")'
+            "the tracked margins lagged the material: gathering it back moved its centre of "
+            f"mass by {tracker.gathered_shift:.3g} ({tracker.gathered_shift / cell:.2g} cells) "
+            f"over the run, up to {100 * tracker.largest_gathered:.2g} % of it in one step pair, "
+            f"and {tracker.joined} cells joined the region late; the flow spreads faster at its "
+            "edges than the margins follow (a released block), so compare with scheme "
+            'jiang-tadmor (docs/design.md, "Margins in two dimensions")'
         ]
