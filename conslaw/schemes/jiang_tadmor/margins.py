@@ -45,7 +45,7 @@ Array = NDArray[np.float64]
 #: Sub-cells per direction on which the initial data's covered region is found.
 REFINE = 4
 #: Most cells of that finer grid (beyond, the region starts from the cell averages).
-MAX_REFINED_CELLS = 2**22
+MAX_REFINED_CELLS = 2**20
 #: Share of the deepest depth within :data:`LOCAL_REACH` cells from which a cell's velocity
 #: may move the level set (a cell deep enough to carry one).
 VELOCITY_DEPTH_SHARE = 1e-3

@@ -9,6 +9,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any, ClassVar
 
+import numpy as np
+
 from conslaw.errors import ConfigError
 from conslaw.grid2d import Grid2D
 from conslaw.model import Model
@@ -98,16 +100,17 @@ class JiangTadmorTracked(JiangTadmor):
 
         Returns
         -------
-        numpy.ndarray or None
-            As :meth:`JiangTadmor.initial_values`.
+        numpy.ndarray
+            As :meth:`JiangTadmor.initial_values`, and otherwise the cell averages the region
+            was started from (computed once).
         """
         values = super().initial_values(initial)
-        if values is None:
-            averages = initial.cell_averages(self.grid, self.model)
-            self.tracker.start_from_initial(initial, self.model, averages)
-        else:
+        if values is not None:
             self.tracker.start_from_values(values)
-        return values
+            return values
+        averages = np.asarray(initial.cell_averages(self.grid, self.model), dtype=np.float64)
+        self.tracker.start_from_initial(initial, self.model, averages)
+        return averages
 
     def _advance_pair(self, t: float, t_end: float, steps: int) -> tuple[float, int]:
         """One accepted step pair from ``t`` (:meth:`JiangTadmor._advance_pair`), then the
