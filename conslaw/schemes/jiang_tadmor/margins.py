@@ -197,19 +197,23 @@ class MarginTracker:
 
     def velocity(self, q: Array) -> tuple[Array, Array]:
         """The velocity that moves the level set: the flow's own, ``momentum / depth``, in the
-        trusted cells (inside the region by at least :data:`TRUSTED_DEPTH` cells and at least
-        :data:`VELOCITY_DEPTH_SHARE` of the deepest cell's depth), extrapolated linearly from
-        them layer by layer over :data:`EXTRAPOLATION_LAYERS` layers of 4-neighbours (each cell
-        of a layer the mean of its known neighbours' value plus their gradient times the step to
-        it; gradients by central differences over trusted cells, one-sided at their edge), and
-        zero beyond (cells so far out that one step pair does not reach the margin). Where the
-        linear extrapolation is slower along the outward normal (``-grad level``) than the
-        trusted velocity carried out unchanged, as behind a compressed front or a bore, the
-        unchanged one is taken: a margin never lags the flow behind it.
+        trusted cells (inside the region by at least :data:`TRUSTED_DEPTH` cells, among the
+        cells carrying a velocity: at least :data:`VELOCITY_DEPTH_SHARE` of the deepest depth
+        within :data:`LOCAL_REACH` cells), extrapolated linearly from them layer by layer over
+        :data:`EXTRAPOLATION_LAYERS` layers of 4-neighbours (each cell of a layer the mean of
+        its known neighbours' value plus their gradient times the step to it; gradients by
+        central differences over trusted cells, one-sided at their edge), and zero beyond
+        (cells so far out that one step pair does not reach the margin). Two more candidates
+        are carried out unchanged, layer by layer: the trusted velocity, and the flow's own in
+        every carrying cell, in the region or out of it; each cell takes the candidate fastest
+        along the outward normal ``-grad level`` (a compressed front keeps the speed of the flow
+        behind it, a spreading edge its own).
 
         The cells near a margin are not trusted because a central scheme's velocity there is
         smoothed to a plateau over its last cells (docs/design.md, "Margins in two
-        dimensions"); where no cell is that far inside, the farthest inside are. Mirrored data
+        dimensions"); in a body of material (8-connected carrying cells in the region) thinner
+        than that, its farthest inside cells are. :attr:`reached` records the cells the
+        trusted velocity reached. Mirrored data
         give mirrored velocities bit for bit.
 
         Parameters
