@@ -1,13 +1,14 @@
 """Figures drawn by a child process started before the solve.
 
-Importing matplotlib takes about as long as loading the compiled kernels (about half a second
-each on the reference machine, see docs/performance.md). ``conslaw run`` therefore forks a child
-at launch that imports matplotlib and warms up its renderer while the parent loads the kernels
-and solves; the parent then hands the finished run to the child, which writes the PNGs (through
-the same atomic writes as everything else) and reports the paths. Where ``fork`` is not the
-platform's way to start processes (macOS, Windows) or the child fails for any reason, the
-figures are drawn in the parent as before: the worker changes when figures are drawn, never
-what is drawn.
+Importing matplotlib takes about as long as loading the compiled kernels (about a third of a
+second each on the reference machine, see docs/performance.md). ``conslaw run`` therefore forks
+a child that imports matplotlib and warms up its renderer while the parent loads the kernels and
+solves; the parent then hands the finished run to the child, which writes the PNGs (through the
+same atomic writes as everything else) and reports the paths. With two figures or more the
+child forks a helper from itself, already warmed up, and each draws half of them. Where
+``fork`` is not the platform's way to start processes (macOS, Windows) or the child fails for
+any reason, the figures are drawn in the parent as before: the worker changes when figures are
+drawn, never what is drawn.
 """
 
 from __future__ import annotations
@@ -15,13 +16,15 @@ from __future__ import annotations
 import contextlib
 import ctypes
 import dataclasses
+import json
 import multiprocessing
+import os
 import signal
 import sys
 import threading
 from multiprocessing.connection import Connection
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NoReturn
 
 from conslaw.signals import STOP_SIGNALS
 
@@ -36,11 +39,9 @@ JOIN_SECONDS = 5.0
 _PR_SET_PDEATHSIG = 1
 
 
-class _StoppedError(SystemExit):
-    """SIGTERM or SIGHUP in the child: unwinds it (not an ``Exception``, so that no library's
-    ``except Exception`` swallows it); see :func:`_remove_temporary_files`. A ``SystemExit``:
-    should one escape :func:`_serve` (a stop between two of its statements), multiprocessing
-    ends the child quietly instead of printing a traceback."""
+#: What a stop signal must clean up in this process: the folder the figures are written into
+#: (None before a run arrives) and the helper drawing half of them (its process id; 0: none).
+_running: dict[str, Any] = {"folder": None, "helper": 0}
 
 
 def _handle_stops(handler: Any) -> None:
@@ -50,26 +51,30 @@ def _handle_stops(handler: Any) -> None:
             signal.signal(number, handler)
 
 
-def _stop(signal_number: int, frame: Any) -> None:
-    """Unwind the child at the first stop signal; later ones are ignored, so that the unwinding
-    (and its ``finally``) is never interrupted a second time."""
+def _stop(signal_number: int, frame: Any) -> NoReturn:
+    """End this process at the first stop signal (later ones are ignored): first the helper,
+    if one is drawing, then every temporary file an interrupted figure write left in the
+    folder (:func:`_remove_temporary_files`); exit status 0.
+
+    The handler exits itself rather than raising: Python runs a signal handler between any two
+    bytecodes, also inside a weakref callback, a finaliser or an at-fork hook, where an
+    exception it raises is printed and dropped, and the child would draw on with its stop
+    signals ignored (seen in the tests, until the parent killed it mid-write)."""
     _handle_stops(signal.SIG_IGN)
-    raise _StoppedError
-
-
-def _quiet_handlers() -> None:
-    """Restore the default action of the stop signals, so that a late one ends the child
-    without a traceback. A stop that arrives while this runs (``_stop`` still installed) raises
-    inside it: caught here, as the child is ending anyway (the stop signals then stay ignored,
-    and the parent's ``stop`` kills a child that does not end)."""
-    with contextlib.suppress(_StoppedError):
-        _handle_stops(signal.SIG_DFL)
+    helper = _running["helper"]
+    if helper:
+        with contextlib.suppress(OSError):
+            os.kill(helper, signal.SIGTERM)
+            os.waitpid(helper, 0)
+    _remove_temporary_files(_running["folder"])
+    os._exit(0)
 
 
 def _warm_up() -> None:
     """Import pyplot and draw, to a buffer, a small figure with what the run figures use
     (shared axes, markers, lines, a fill, a legend, text, a grid, tight layout): the first
-    draw of each loads fonts and sets up caches, which the run's figures then find ready."""
+    draw of each loads fonts and sets up caches, which the run's figures (and the helper that
+    draws half of them, forked after this) then find ready."""
     import io as _io
 
     import matplotlib.pyplot as plt
@@ -103,46 +108,100 @@ def _die_with_the_parent() -> None:
 
 
 def _remove_temporary_files(folder: Path | None) -> None:
-    """Remove the temporary files of figure writes a stop interrupted. A signal between
-    ``mkstemp`` and the ``try`` of :func:`conslaw.io.atomic_write_bytes` leaves one behind; its
-    name is ``.<figure>.png.<random>.tmp``, and only this child writes PNGs into the folder."""
+    """Remove the temporary files of figure writes a stop interrupted (:func:`_stop` ends the
+    process anywhere, also between the temporary file's creation and its rename in
+    :func:`conslaw.io.atomic_write_bytes`). Their names are ``.<figure>.png.<random>.tmp``,
+    and only this child and its helper write PNGs into the folder."""
     if folder is None:
         return
-    for leftover in folder.glob(".*.png.*.tmp"):
-        leftover.unlink(missing_ok=True)
+    with contextlib.suppress(OSError):  # a folder removed meanwhile
+        for leftover in folder.glob(".*.png.*.tmp"):
+            leftover.unlink(missing_ok=True)
+
+
+def _draw_shared(result: RunResult, folder: Path) -> list[Path]:
+    """Write ``result``'s figures (:func:`conslaw.plotting.draw_figures`) from two processes
+    when there are two figures or more and two cores: a helper forked from this warmed-up child
+    draws every second figure while this one draws the others (the run waits for the slower
+    half, not the sum). Returns the paths in :func:`conslaw.plotting.figures_for` order; a
+    RuntimeError if the helper fails (the parent then draws them all)."""
+    from conslaw import plotting
+
+    names = [name for name, _ in plotting.figures_for(result)]
+    if len(names) < 2 or len(os.sched_getaffinity(0)) < 2:
+        return plotting.draw_figures(result, folder)
+    child = os.getpid()
+    reader, writer = os.pipe()
+    helper = os.fork()
+    if helper == 0:  # the helper: never returns
+        os.close(reader)
+        _help(result, folder, names[1::2], writer, child)
+    _running["helper"] = helper  # a stop in this process ends the helper too (_stop)
+    os.close(writer)
+    status: int | None = None
+    try:
+        ours = plotting.draw_figures(result, folder, names[0::2])
+        with os.fdopen(reader, "rb") as stream:
+            reader = -1
+            reply = stream.read()
+        status = os.waitpid(helper, 0)[1]
+    finally:
+        _running["helper"] = 0
+        if reader >= 0:
+            os.close(reader)
+        if status is None:  # a failure here: the helper goes too
+            with contextlib.suppress(OSError):
+                os.kill(helper, signal.SIGTERM)
+                os.waitpid(helper, 0)
+    if os.waitstatus_to_exitcode(status) != 0:
+        raise RuntimeError("the second figure process failed")
+    by_name = {path.name: path for path in [*ours, *(Path(p) for p in json.loads(reply))]}
+    return [by_name[name] for name in names]
+
+
+def _help(result: RunResult, folder: Path, names: list[str], writer: int, child: int) -> NoReturn:
+    """The helper of :func:`_draw_shared`: draw the figures ``names``, write their paths (JSON)
+    to the pipe ``writer`` and exit at once (``os._exit``: nothing of the child's state is
+    finalised twice); exit status 1 on any failure. A stop signal (the child's handler,
+    :func:`_stop`) removes the temporary file of an interrupted write and exits."""
+    code = 1
+    try:
+        _die_with_the_parent()
+        if os.getppid() == child:  # not orphaned before prctl took effect
+            from conslaw import plotting
+
+            written = plotting.draw_figures(result, folder, names)
+            with os.fdopen(writer, "w") as stream:
+                stream.write(json.dumps([str(path) for path in written]))
+            code = 0
+    except BaseException:  # reported by the exit status
+        pass
+    finally:
+        os._exit(code)
 
 
 def _serve(connection: Connection, parent_end: Connection) -> None:
     """The child: warm up, wait for one run, write its figures, report ``("ok", paths)`` or
-    ``("error", message)``. Ctrl-C is the parent's to report; SIGTERM and SIGHUP unwind quietly
-    and remove an interrupted write's temporary file."""
+    ``("error", message)``. Ctrl-C is the parent's to report; SIGTERM and SIGHUP end the child
+    at once and remove an interrupted write's temporary file (:func:`_stop`)."""
     parent_end.close()
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    folder: Path | None = None
+    _handle_stops(_stop)
     try:
-        # Inside the try: a stop that comes at once (a run failing at its first step) must not
-        # escape to multiprocessing, which would print a traceback.
-        _handle_stops(_stop)
         _die_with_the_parent()
         _warm_up()
         job = connection.recv()
         if job is None:
             return
         result, folder_name = job
-        folder = Path(folder_name)
-        from conslaw import plotting
-
-        connection.send(("ok", plotting.draw_figures(result, folder)))
-    except _StoppedError:
-        _remove_temporary_files(folder)
+        _running["folder"] = Path(folder_name)
+        connection.send(("ok", _draw_shared(result, _running["folder"])))
     except (EOFError, BrokenPipeError):
         pass  # the parent is gone: nothing to report
     except Exception as error:  # reported to the parent, which draws in-process instead
         with contextlib.suppress(BrokenPipeError, OSError):
             connection.send(("error", f"{type(error).__name__}: {error}"))
     finally:
-        # From here a late signal ends the child without a traceback.
-        _quiet_handlers()
         connection.close()
 
 

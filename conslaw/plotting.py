@@ -7,7 +7,7 @@ are written as PNG through the Agg renderer whatever the backend."""
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Collection, Sequence
 from typing import TYPE_CHECKING, Any
 
 import matplotlib
@@ -314,11 +314,13 @@ def figures_for(result: RunResult) -> list[tuple[str, Callable[[RunResult], Any]
     return figures
 
 
-def draw_figures(result: RunResult, folder: Path) -> list[Path]:
-    """The figures of :func:`figures_for`, drawn in this process and written atomically
-    (:func:`conslaw.io.write_figure`); returns their paths."""
+def draw_figures(
+    result: RunResult, folder: Path, names: Collection[str] | None = None
+) -> list[Path]:
+    """The figures of :func:`figures_for` (only those in ``names`` if given), drawn in this
+    process and written atomically (:func:`conslaw.io.write_figure`); returns their paths."""
     written = []
     for name, build in figures_for(result):
-        figure = build(result)
-        written.append(write_figure(folder / name, figure))
+        if names is None or name in names:
+            written.append(write_figure(folder / name, build(result)))
     return written

@@ -47,11 +47,14 @@ class Registry(Generic[T]):
         self._check = check
         self._builtins = builtins
         self._entries: dict[str, T] = {}
-        self._loaded = False
-        # Another thread waits until the entries are filled; the loading thread itself (a plugin
+        # Plugins found but not imported yet: a run imports only the plugins it names (the
+        # terrain model's GeoTIFF and polygon libraries are not for a 1D scene).
+        self._pending: dict[str, Any] = {}
+        self._discovered = False
+        self._discovering = False
+        # Another thread waits until an entry is loaded; the loading thread itself (a plugin
         # whose check asks the registry again) sees what is registered so far.
         self._lock = threading.RLock()
-        self._loading = False
 
     def register(self, name: str, obj: Any) -> T:
         """Check ``obj`` against the contract and register it under ``name``."""
@@ -59,51 +62,69 @@ class Registry(Generic[T]):
             raise ContractError(f"{self.kind} names must be non-empty strings, got {name!r}")
         checked = self._check(name, obj)
         self._entries[name] = checked
+        self._pending.pop(name, None)
         return checked
 
-    def _load(self) -> None:
-        if self._loaded:
+    def _discover(self) -> None:
+        """Register the built-in entries and note (without importing them) the plugins of the
+        entry-point group; a plugin of a built-in's name replaces it when it is loaded."""
+        if self._discovered:
             return
         with self._lock:
-            if self._loaded or self._loading:
+            if self._discovered or self._discovering:
                 return
-            self._loading = True
+            self._discovering = True
             try:
-                self._fill()
+                if self._builtins is not None:
+                    for name, obj in self._builtins():
+                        self.register(name, obj)
+                if self.group is not None:
+                    for point in entry_points(group=self.group):
+                        self._pending[point.name] = point
             finally:
-                self._loading = False
-                self._loaded = True
+                self._discovering = False
+                self._discovered = True
 
-    def _fill(self) -> None:
-        """Register the built-in entries and every plugin of the entry-point group."""
-        if self._builtins is not None:
-            for name, obj in self._builtins():
-                self.register(name, obj)
-        if self.group is None:
-            return
-        for point in entry_points(group=self.group):
+    def _load_plugin(self, name: str) -> None:
+        """Import and check the pending plugin ``name`` (if any); a broken plugin is skipped
+        with a warning, so that it cannot break runs that do not use it."""
+        with self._lock:
+            point = self._pending.pop(name, None)
+            if point is None:
+                return
             try:
-                self.register(point.name, point.load())
+                self.register(name, point.load())
             except Exception as error:  # a broken plugin must not break unrelated runs
+                self._entries.pop(name, None)
                 warnings.warn(
                     f"conslaw: skipped {self.kind} plugin '{point.name}' ({point.value}): {error}",
-                    stacklevel=3,
+                    stacklevel=4,
                 )
+
+    def _load_all(self) -> None:
+        self._discover()
+        with self._lock:  # a plugin another thread is importing is registered on return
+            for name in list(self._pending):
+                self._load_plugin(name)
 
     def get(self, name: str) -> T:
         """The entry called ``name``; ConfigError naming the allowed values otherwise."""
-        self._load()
+        self._discover()
+        if isinstance(name, str):
+            self._load_plugin(name)
         if not isinstance(name, str) or name not in self._entries:
-            raise ConfigError(unknown_name_message(self.kind, str(name), self._entries))
+            raise ConfigError(unknown_name_message(self.kind, str(name), self.names()))
         return self._entries[name]
 
     def names(self) -> list[str]:
-        """Registered names, sorted."""
-        self._load()
+        """Registered names, sorted (every plugin is imported and checked)."""
+        self._load_all()
         return sorted(self._entries)
 
     def __contains__(self, name: object) -> bool:
-        self._load()
+        self._discover()
+        if isinstance(name, str):
+            self._load_plugin(name)
         return name in self._entries
 
     def __iter__(self) -> Iterator[str]:

@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from matplotlib.figure import Figure
+from matplotlib.patches import Polygon
 
 from conslaw.plotting import run_label, select_states, times_label
 
@@ -57,11 +58,12 @@ def chute_figure(
         axis.set_visible(False)
     for axis, state, (top_x, top_z) in zip(axes.flat, shown, tops, strict=False):
         axis.plot(horizontal, vertical, "k-", lw=1.0)
-        axis.fill(
-            np.concatenate([horizontal, top_x[::-1]]),
-            np.concatenate([vertical, top_z[::-1]]),
-            color="tab:orange", alpha=0.85, lw=0,
-        )  # fmt: skip
+        # The mass as a patch added without ``Axes.fill``'s data-limit update, which walks
+        # every segment of the outline in Python (the limits are set below anyway).
+        outline = np.column_stack(
+            [np.concatenate([horizontal, top_x[::-1]]), np.concatenate([vertical, top_z[::-1]])]
+        )
+        axis.add_artist(Polygon(outline, closed=True, color="tab:orange", alpha=0.85, lw=0))
         axis.set_aspect("equal", adjustable="box")
         axis.set_xlim(left - margin, right + margin)
         axis.set_ylim(bottom - margin, top_edge + margin)

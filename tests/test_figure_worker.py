@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import os
 import pickle
+import signal
 import subprocess
 import sys
 import tempfile
@@ -52,24 +53,42 @@ def test_the_child_draws_the_figures_the_parent_would(run, tmp_path: Path) -> No
         assert ours.read_bytes() == theirs.read_bytes()
 
 
+@pytest.mark.parametrize("failing", ["child", "helper"])
 def test_a_failing_child_leaves_the_figures_to_the_parent(
-    run, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+    run, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, failing: str
 ) -> None:
-    """A child that raises reports the error; :func:`conslaw.figure_worker.write_figures` then
-    draws in the parent, so the run still gets its figures."""
+    """A child that raises (in its own half of the figures, or in the helper that draws every
+    second one) reports the error; :func:`conslaw.figure_worker.write_figures` then draws them
+    all in the parent, so the run still gets its figures."""
     parent = os.getpid()
     draw = plotting.draw_figures
+    broken = None if failing == "child" else ["chute.png"]
 
-    def fails_in_the_child(result, folder):  # type: ignore[no-untyped-def]
-        if os.getpid() != parent:
+    def fails_in_a_child(result, folder, names=None):  # type: ignore[no-untyped-def]
+        if os.getpid() != parent and (broken is None or names == broken):
             raise RuntimeError("no figures here")
-        return draw(result, folder)
+        return draw(result, folder, names)
 
-    monkeypatch.setattr(plotting, "draw_figures", fails_in_the_child)
+    monkeypatch.setattr(plotting, "draw_figures", fails_in_a_child)
     assert started().draw(run, tmp_path) is None
     written = figure_worker.write_figures(run, tmp_path, started())
     assert [p.name for p in written] == ["profiles.png", "chute.png"]
     assert all(p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" for p in written)
+
+
+def _hang_after_mkstemp_in_children(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Make every figure write in a forked process (the child, its helper) hang for a minute
+    once its temporary file exists."""
+    parent = os.getpid()
+    original = tempfile.mkstemp
+
+    def hangs(*args, **kwargs):  # type: ignore[no-untyped-def]
+        made = original(*args, **kwargs)
+        if os.getpid() != parent:
+            time.sleep(60)
+        return made
+
+    monkeypatch.setattr(tempfile, "mkstemp", hangs)
 
 
 @pytest.mark.parametrize("where", ["after mkstemp", "before the rename"])
@@ -83,15 +102,7 @@ def test_a_child_stopped_in_a_write_leaves_no_file(
     stop handler), "before the rename" the window inside it."""
     parent = os.getpid()
     if where == "after mkstemp":
-        original = tempfile.mkstemp
-
-        def hangs(*args, **kwargs):  # type: ignore[no-untyped-def]
-            made = original(*args, **kwargs)
-            if os.getpid() != parent:
-                time.sleep(60)
-            return made
-
-        monkeypatch.setattr(tempfile, "mkstemp", hangs)
+        _hang_after_mkstemp_in_children(monkeypatch)
     else:
         rename = os.replace
 
@@ -134,40 +145,64 @@ def test_close_stops_a_child_that_got_no_run() -> None:
     assert not worker.process.is_alive()
 
 
-def _stopped_at_once() -> None:
-    raise figure_worker._StoppedError
+def _stopped_inside_a_weakref_callback(folder: str) -> None:
+    """A child with the figure worker's stop handler and a write in progress, whose stop signal
+    is handled inside a weakref callback, where an exception raised by the handler would be
+    printed and dropped."""
+    import weakref
+
+    figure_worker._handle_stops(figure_worker._stop)
+    figure_worker._running["folder"] = Path(folder)
+    (Path(folder) / ".profiles.png.interrupted.tmp").write_bytes(b"half a PNG")
+
+    class Thing:
+        pass
+
+    def callback(_: object) -> None:
+        os.kill(os.getpid(), signal.SIGTERM)
+        for _ in range(100_000):  # the handler runs between two of these bytecodes
+            pass
+
+    thing = Thing()
+    reference = weakref.ref(thing, callback)
+    del thing
+    (Path(folder) / "drew-on").write_text(f"the stop was lost ({reference})")
 
 
-def test_a_stop_that_escapes_the_child_ends_it_quietly(capfd: pytest.CaptureFixture[str]) -> None:
-    """A stop signal between two statements of the child, outside its ``try`` (a run failing
-    at its first step stops the child while it starts or ends), used to make multiprocessing
-    print a traceback under the run's one-line error (seen in CI: "Process conslaw-figures:
-    ... _StoppedError"). The stop is a ``SystemExit``: the child ends quietly."""
+def test_a_stop_inside_a_weakref_callback_still_ends_the_child(tmp_path: Path) -> None:
+    """Python runs a signal handler between any two bytecodes, also inside a weakref callback
+    (or a finaliser, or an at-fork hook), where an exception it raises is dropped: the stop
+    handler therefore ends the process itself. The child exits at once with status 0, the
+    temporary file of its interrupted write is gone, and nothing after the stop ran."""
     import multiprocessing
 
-    process = multiprocessing.get_context("fork").Process(target=_stopped_at_once)
+    process = multiprocessing.get_context("fork").Process(
+        target=_stopped_inside_a_weakref_callback, args=(str(tmp_path),)
+    )
     process.start()
     process.join(30)
     assert process.exitcode == 0
-    assert "Traceback" not in capfd.readouterr().err
+    assert list(tmp_path.iterdir()) == []
 
 
-def test_a_stop_while_the_child_restores_its_handlers_is_caught(
-    monkeypatch: pytest.MonkeyPatch,
+@pytest.mark.parametrize("delay", [0.0, 0.01, 0.03, 0.06, 0.1, 0.15])
+def test_a_stop_at_any_moment_of_the_drawing_ends_both_processes(
+    run, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, delay: float
 ) -> None:
-    """The child's last step restores the default action of the stop signals; a stop that
-    arrives during it (the handler still installed) raises there, and is caught."""
-    import signal
-
-    calls: list[int] = []
-
-    def interrupted(number: int, handler: object) -> object:
-        calls.append(number)
-        raise figure_worker._StoppedError
-
-    monkeypatch.setattr(signal, "signal", interrupted)
-    figure_worker._quiet_handlers()
-    assert calls
+    """The child draws half the figures and its helper the other half; a stop at any moment
+    (here ``delay`` seconds after the run is handed over) ends both by the stop itself (not by
+    the parent's kill after :data:`~conslaw.figure_worker.JOIN_SECONDS`) and leaves no
+    temporary file. A write that has started hangs (patched in the children) so that the stop always
+    finds one in progress or still to come."""
+    _hang_after_mkstemp_in_children(monkeypatch)
+    worker = started()
+    worker.connection.send((figure_worker.transportable(run), str(tmp_path)))
+    time.sleep(delay)
+    worker.stop()
+    # 0: ended by its stop handler; -SIGTERM: stopped before the handler was installed (not
+    # -SIGKILL: the parent's kill of a child that ignored the stop)
+    assert not worker.process.is_alive() and worker.process.exitcode in (0, -signal.SIGTERM)
+    assert [p for p in tmp_path.iterdir() if p.suffix == ".tmp"] == []
 
 
 def test_no_child_where_a_fork_is_unsafe(monkeypatch: pytest.MonkeyPatch) -> None:

@@ -79,6 +79,47 @@ def test_a_broken_plugin_is_skipped_with_a_warning(monkeypatch: pytest.MonkeyPat
         assert fresh.names() == []
 
 
+def test_a_plugin_is_imported_only_when_named(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Looking up one plugin imports that plugin only: a broken one that is not asked for
+    raises no warning until every name is listed."""
+    import warnings
+
+    class Point:
+        def __init__(self, name: str, target: object) -> None:
+            self.name, self.value, self.target = name, f"somewhere:{name}", target
+
+        def load(self) -> object:
+            if isinstance(self.target, Exception):
+                raise self.target
+            return self.target
+
+    import conslaw.registry as module
+
+    points = [Point("broken", ImportError("no module named nowhere")), Point("burgers", Burgers)]
+    monkeypatch.setattr(module, "entry_points", lambda group: points)
+    fresh: Registry[type[Model]] = Registry("model", "conslaw.models", check_model)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert fresh.get("burgers") is Burgers
+        assert "burgers" in fresh
+    with pytest.warns(UserWarning, match="skipped model plugin 'broken'"):
+        assert fresh.names() == ["burgers"]
+
+
+def test_a_one_dimensional_run_does_not_import_the_terrain_libraries() -> None:
+    """Reading and running a 1D scene in a fresh interpreter imports neither the terrain model
+    nor rasterio, shapely or pyogrio (the registry loads the model it is asked for)."""
+    script = (
+        "import sys, conslaw\n"
+        "conslaw.run('burgers-sine', n_cells=16)\n"
+        "print(sorted(name for name in ('rasterio', 'shapely', 'pyogrio', "
+        "'conslaw_models.savage_hutter_terrain') if name in sys.modules))\n"
+    )
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[]"
+
+
 def test_every_registered_model_runs_with_every_reconstructor() -> None:
     """Smoke test over the registry: a new plugin is exercised automatically."""
     import numpy as np
