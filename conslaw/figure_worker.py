@@ -22,6 +22,7 @@ import os
 import signal
 import sys
 import threading
+from collections.abc import Iterator
 from multiprocessing.connection import Connection
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, NoReturn
@@ -40,8 +41,10 @@ _PR_SET_PDEATHSIG = 1
 
 
 #: What a stop signal must clean up in this process: the folder the figures are written into
-#: (None before a run arrives) and the helper drawing half of them (its process id; 0: none).
-_running: dict[str, Any] = {"folder": None, "helper": 0}
+#: (None before a run arrives), the figures this process writes (None: any, the child's
+#: clean-up after its helper), the helper drawing half of them (its process id; 0: none), and
+#: the exit status of a stopped process (1 in the helper: a stopped helper failed).
+_running: dict[str, Any] = {"folder": None, "figures": None, "helper": 0, "stopped_status": 0}
 
 
 def _handle_stops(handler: Any) -> None:
@@ -61,13 +64,31 @@ def _stop(signal_number: int, frame: Any) -> NoReturn:
     exception it raises is printed and dropped, and the child would draw on with its stop
     signals ignored (seen in the tests, until the parent killed it mid-write)."""
     _handle_stops(signal.SIG_IGN)
-    helper = _running["helper"]
+    _end_helper(_running["helper"])
+    _remove_temporary_files(_running["folder"], _running["figures"])
+    os._exit(_running["stopped_status"])
+
+
+@contextlib.contextmanager
+def _stops_held() -> Iterator[None]:
+    """Block the stop signals (a stop that comes meanwhile is handled at the end): around the
+    fork of the helper and the bookkeeping of its process id, so that :func:`_stop` never
+    misses a helper that exists nor signals one already reaped."""
+    held = {number for number in STOP_SIGNALS if number != signal.SIGINT}
+    signal.pthread_sigmask(signal.SIG_BLOCK, held)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, held)
+
+
+def _end_helper(helper: int) -> None:
+    """Stop the helper ``helper`` (if not 0) and reap it; its own stop handler removes the
+    temporary file of the figure it was writing."""
     if helper:
         with contextlib.suppress(OSError):
             os.kill(helper, signal.SIGTERM)
             os.waitpid(helper, 0)
-    _remove_temporary_files(_running["folder"])
-    os._exit(0)
 
 
 def _warm_up() -> None:
@@ -107,16 +128,19 @@ def _die_with_the_parent() -> None:
         pass  # not essential: the child also stops when its pipe closes
 
 
-def _remove_temporary_files(folder: Path | None) -> None:
+def _remove_temporary_files(folder: Path | None, figures: list[str] | None = None) -> None:
     """Remove the temporary files of figure writes a stop interrupted (:func:`_stop` ends the
     process anywhere, also between the temporary file's creation and its rename in
-    :func:`conslaw.io.atomic_write_bytes`). Their names are ``.<figure>.png.<random>.tmp``,
-    and only this child and its helper write PNGs into the folder."""
+    :func:`conslaw.io.atomic_write_bytes`): those of ``figures`` (names such as
+    ``profiles.png``), or of any figure. Their names are ``.<figure>.<random>.tmp``, and only
+    this child and its helper write PNGs into the folder."""
     if folder is None:
         return
+    patterns = [f".{name}.*.tmp" for name in figures] if figures is not None else [".*.png.*.tmp"]
     with contextlib.suppress(OSError):  # a folder removed meanwhile
-        for leftover in folder.glob(".*.png.*.tmp"):
-            leftover.unlink(missing_ok=True)
+        for pattern in patterns:
+            for leftover in folder.glob(pattern):
+                leftover.unlink(missing_ok=True)
 
 
 def _draw_shared(result: RunResult, folder: Path) -> list[Path]:
@@ -131,29 +155,38 @@ def _draw_shared(result: RunResult, folder: Path) -> list[Path]:
     if len(names) < 2 or len(os.sched_getaffinity(0)) < 2:
         return plotting.draw_figures(result, folder)
     child = os.getpid()
-    reader, writer = os.pipe()
-    helper = os.fork()
-    if helper == 0:  # the helper: never returns
-        os.close(reader)
-        _help(result, folder, names[1::2], writer, child)
-    _running["helper"] = helper  # a stop in this process ends the helper too (_stop)
+    with _stops_held():
+        reader, writer = os.pipe()
+        try:
+            helper = os.fork()
+        except OSError:  # no process to spare: this one draws them all
+            os.close(reader)
+            os.close(writer)
+            helper = -1
+        if helper == 0:  # the helper: never returns
+            os.close(reader)
+            _help(result, folder, names[1::2], writer, child)
+        _running["helper"] = max(helper, 0)  # a stop in this process ends the helper too
+    if helper < 0:
+        return plotting.draw_figures(result, folder)
     os.close(writer)
-    status: int | None = None
+    reply = b""
     try:
         ours = plotting.draw_figures(result, folder, names[0::2])
         with os.fdopen(reader, "rb") as stream:
             reader = -1
-            reply = stream.read()
-        status = os.waitpid(helper, 0)[1]
+            reply = stream.read()  # until the helper's end of the pipe closes: it is exiting
     finally:
-        _running["helper"] = 0
         if reader >= 0:
             os.close(reader)
-        if status is None:  # a failure here: the helper goes too
-            with contextlib.suppress(OSError):
-                os.kill(helper, signal.SIGTERM)
-                os.waitpid(helper, 0)
-    if os.waitstatus_to_exitcode(status) != 0:
+        with _stops_held():
+            if reply:
+                status = os.waitpid(helper, 0)[1]
+            else:  # a failure here, or a helper that ended without its paths
+                _end_helper(helper)
+                status = 1
+            _running["helper"] = 0
+    if not reply or os.waitstatus_to_exitcode(status) != 0:
         raise RuntimeError("the second figure process failed")
     by_name = {path.name: path for path in [*ours, *(Path(p) for p in json.loads(reply))]}
     return [by_name[name] for name in names]
@@ -163,10 +196,15 @@ def _help(result: RunResult, folder: Path, names: list[str], writer: int, child:
     """The helper of :func:`_draw_shared`: draw the figures ``names``, write their paths (JSON)
     to the pipe ``writer`` and exit at once (``os._exit``: nothing of the child's state is
     finalised twice); exit status 1 on any failure. A stop signal (the child's handler,
-    :func:`_stop`) removes the temporary file of an interrupted write and exits."""
+    :func:`_stop`) removes the temporary file of this helper's interrupted write and exits with
+    status 1."""
     code = 1
     try:
+        # Still with the stop signals held (_draw_shared): a stop from here on removes this
+        # helper's own temporary files only, and says the helper failed.
+        _running.update(figures=names, stopped_status=1)
         _die_with_the_parent()
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, set(STOP_SIGNALS) - {signal.SIGINT})
         if os.getppid() == child:  # not orphaned before prctl took effect
             from conslaw import plotting
 

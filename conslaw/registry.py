@@ -85,9 +85,10 @@ class Registry(Generic[T]):
                 self._discovering = False
                 self._discovered = True
 
-    def _load_plugin(self, name: str) -> None:
+    def _load_plugin(self, name: str, stacklevel: int = 3) -> None:
         """Import and check the pending plugin ``name`` (if any); a broken plugin is skipped
-        with a warning, so that it cannot break runs that do not use it."""
+        with a warning (naming the line that asked for it, ``stacklevel``), so that it cannot
+        break runs that do not use it; a built-in of the same name then stays."""
         with self._lock:
             point = self._pending.pop(name, None)
             if point is None:
@@ -95,17 +96,16 @@ class Registry(Generic[T]):
             try:
                 self.register(name, point.load())
             except Exception as error:  # a broken plugin must not break unrelated runs
-                self._entries.pop(name, None)
                 warnings.warn(
                     f"conslaw: skipped {self.kind} plugin '{point.name}' ({point.value}): {error}",
-                    stacklevel=4,
+                    stacklevel=stacklevel,
                 )
 
     def _load_all(self) -> None:
         self._discover()
         with self._lock:  # a plugin another thread is importing is registered on return
             for name in list(self._pending):
-                self._load_plugin(name)
+                self._load_plugin(name, stacklevel=4)
 
     def get(self, name: str) -> T:
         """The entry called ``name``; ConfigError naming the allowed values otherwise."""

@@ -185,23 +185,40 @@ def test_a_stop_inside_a_weakref_callback_still_ends_the_child(tmp_path: Path) -
     assert list(tmp_path.iterdir()) == []
 
 
-@pytest.mark.parametrize("delay", [0.0, 0.01, 0.03, 0.06, 0.1, 0.15])
-def test_a_stop_at_any_moment_of_the_drawing_ends_both_processes(
-    run, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, delay: float
+def _children(pid: int) -> list[int]:
+    """The process ids of ``pid``'s children (Linux ``/proc``)."""
+    path = Path(f"/proc/{pid}/task/{pid}/children")
+    return [int(word) for word in path.read_text().split()] if path.exists() else []
+
+
+@pytest.mark.parametrize("moment", ["helper forked", "0.03 s later", "both writing"])
+def test_a_stop_while_drawing_ends_the_child_and_its_helper(
+    run, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, moment: str
 ) -> None:
-    """The child draws half the figures and its helper the other half; a stop at any moment
-    (here ``delay`` seconds after the run is handed over) ends both by the stop itself (not by
-    the parent's kill after :data:`~conslaw.figure_worker.JOIN_SECONDS`) and leaves no
-    temporary file. A write that has started hangs (patched in the children) so that the stop always
-    finds one in progress or still to come."""
+    """The child draws half the figures and a helper forked from it the other half. A stop
+    as soon as the helper exists, a little later, or once both hang in their writes (patched in
+    the children) ends both by the stop itself (the child's exit status 0, not the parent's
+    kill after :data:`~conslaw.figure_worker.JOIN_SECONDS`), the helper is gone, and no
+    temporary file is left."""
     _hang_after_mkstemp_in_children(monkeypatch)
     worker = started()
     worker.connection.send((figure_worker.transportable(run), str(tmp_path)))
-    time.sleep(delay)
+    child = worker.process.pid
+    assert child is not None
+    deadline = time.monotonic() + 60
+    while not _children(child) or (
+        moment == "both writing" and len(list(tmp_path.glob(".*.tmp"))) < 2
+    ):
+        assert time.monotonic() < deadline, "the helper never started (or never wrote)"
+        time.sleep(0.002)
+    helpers = _children(child)
+    if moment == "0.03 s later":
+        time.sleep(0.03)
     worker.stop()
-    # 0: ended by its stop handler; -SIGTERM: stopped before the handler was installed (not
-    # -SIGKILL: the parent's kill of a child that ignored the stop)
-    assert not worker.process.is_alive() and worker.process.exitcode in (0, -signal.SIGTERM)
+    assert not worker.process.is_alive() and worker.process.exitcode == 0
+    for helper in helpers:
+        with pytest.raises(ProcessLookupError):
+            os.kill(helper, 0)  # reaped by the child before it exited
     assert [p for p in tmp_path.iterdir() if p.suffix == ".tmp"] == []
 
 

@@ -106,6 +106,32 @@ def test_a_plugin_is_imported_only_when_named(monkeypatch: pytest.MonkeyPatch) -
         assert fresh.names() == ["burgers"]
 
 
+def test_a_broken_plugin_does_not_remove_the_built_in_of_its_name(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A plugin that fails to load under a built-in's name is skipped with a warning that
+    names the line asking for it; the built-in stays."""
+    import conslaw.registry as module
+    from conslaw.reconstruct import builtin_reconstructors
+    from conslaw.registry import check_reconstructor
+
+    class Broken:
+        name, value = "none", "nowhere:Nothing"
+
+        def load(self) -> object:
+            raise ImportError("no module named nowhere")
+
+    monkeypatch.setattr(module, "entry_points", lambda group: [Broken()])
+    fresh = Registry(
+        "reconstructor", "conslaw.reconstructors", check_reconstructor,
+        lambda: [(r.name, r) for r in builtin_reconstructors()],
+    )  # fmt: skip
+    with pytest.warns(UserWarning, match="skipped reconstructor plugin 'none'") as caught:
+        assert fresh.get("none").name == "none"
+    assert caught[0].filename == __file__
+    assert "none" in fresh and "none" in fresh.names()
+
+
 def test_a_one_dimensional_run_does_not_import_the_terrain_libraries() -> None:
     """Reading and running a 1D scene in a fresh interpreter imports neither the terrain model
     nor rasterio, shapely or pyogrio (the registry loads the model it is asked for)."""
