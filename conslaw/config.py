@@ -18,6 +18,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+import numpy as np
+
 from conslaw import registry
 from conslaw.errors import ConfigError, finite_number, unknown_name_message
 from conslaw.grid import MAX_CELLS
@@ -303,6 +305,21 @@ def scene_text(data: bytes, what: str) -> str:
         ) from None
 
 
+def plain_values(value: Any) -> Any:
+    """``value`` with every numpy scalar (``numpy.float64(25.0)``, ``numpy.int64(800)``,
+    ``numpy.True_``) replaced by the Python number or bool it holds and every numpy array by
+    lists (``output_times=numpy.linspace(0, 20, 5)``), inside lists, tuples and mappings too:
+    a scene given from Python with numbers from numpy holds what a TOML file would (the
+    model's flags stay Python bools, the kernels' constants Python literals)."""
+    if isinstance(value, np.generic | np.ndarray):
+        return value.tolist()  # a scalar's Python value; an array as (nested) lists
+    if isinstance(value, Mapping):
+        return {key: plain_values(item) for key, item in value.items()}
+    if isinstance(value, list | tuple):
+        return type(value)(plain_values(item) for item in value)
+    return value
+
+
 def apply_overrides(
     table: dict[str, Any],
     overrides: Mapping[str, Any],
@@ -313,7 +330,7 @@ def apply_overrides(
     table is :data:`conslaw.scene2d.DEFAULTS_2D`)."""
     known = DEFAULTS if defaults is None else defaults
     result = {k: (dict(v) if isinstance(v, Mapping) else v) for k, v in table.items()}
-    for dotted, value in overrides.items():
+    for dotted, value in plain_values(dict(overrides)).items():
         parts = str(dotted).split(".")
         if parts[0] not in known:
             raise ConfigError(unknown_name_message("scene key", parts[0], known))
@@ -561,7 +578,7 @@ def validate(
     ``model_object``: the model of the mapping's model and parameters if the caller has one
     (it is not built a second time).
     """
-    table = _filled(raw)
+    table = _filled(plain_values(raw))
     model = _name(table, "model", registry.models)
     scheme = _name(table, "scheme", registry.schemes)
     scheme_options = _scheme_options(table["scheme_options"], scheme)

@@ -28,6 +28,7 @@ from conslaw.config import (
     interval_times,
     is_two_dimensional,
     load_scene,
+    plain_values,
     read_scene_file,
     resolve_files,
     scene_model,
@@ -313,7 +314,7 @@ def validate_2d(
     and parameters if the caller has one (it is not built a second time). ``folder``: where
     the scene file lives (relative ``*_file`` parameters and initial options are looked up
     there first, :func:`~conslaw.config.resolve_files`)."""
-    table = _filled(raw)
+    table = _filled(plain_values(raw))
     model = _name(table["model"], "model", registry.models)
     model_class = registry.models.get(model)
     if model_class.flux_y_point is None:

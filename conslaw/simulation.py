@@ -329,7 +329,8 @@ def run(
         it. Nothing is written without it.
     **overrides
         Scene keys to override, e.g. ``n_cells=800, reconstructor="weno5"``; nested keys as
-        ``**{"boundary.left": "wall"}``.
+        ``**{"boundary.left": "wall"}``. numpy numbers and arrays are taken as the Python
+        numbers and lists they hold (:func:`conslaw.config.plain_values`).
 
     Examples
     --------

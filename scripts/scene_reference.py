@@ -22,7 +22,8 @@ def render() -> str:
         "A scene is a TOML file. It names only what it needs; the defaults below fill the rest.",
         "Unknown keys are errors (with a *did you mean*). Any key can be overridden on the command",
         "line with `--set key=value` (nested keys with a dot: `--set boundary.left=wall`) or from",
-        "Python as `conslaw.run(scene, key=value)`. `conslaw show SCENE` prints a scene with every",
+        "Python as `conslaw.run(scene, key=value)` (numpy numbers and arrays are taken as the",
+        "Python numbers and lists they hold). `conslaw show SCENE` prints a scene with every",
         "default filled in.",
         "",
         "This page is generated from `conslaw.config` by "

@@ -176,3 +176,41 @@ def test_a_run_builds_its_model_once(monkeypatch: pytest.MonkeyPatch) -> None:
     other = dataclasses.replace(scene, parameters={"g": 2.0})
     assert other.model_instance().params.g == 2.0  # type: ignore[attr-defined]
     assert built == [{"g": 1.0}, {"g": 2.0}]
+
+
+def test_numbers_from_numpy_are_taken_as_python_numbers() -> None:
+    """A scene given from Python with numpy scalars and arrays (a loop over ``np.linspace``)
+    holds Python numbers, writes as TOML and runs: before, a numpy friction angle made the
+    model's flags numpy bools, which the generated kernel module could not name."""
+    import numpy as np
+    import tomli_w
+
+    from conslaw.scene2d import load_any_scene
+
+    overrides = {
+        "parameters.delta": np.float64(25.0), "n_cells": np.int64(100),
+        "cfl": np.float32(0.25), "output_times": np.linspace(0.0, 10.0, 3),
+        "parameters.phi": np.float64(30.0),
+    }  # fmt: skip
+    scene = load_scene("sh-runout-shock", overrides)
+    assert type(scene.parameters["delta"]) is float and type(scene.n_cells) is int
+    assert scene.cfl == 0.25 and scene.output_times == (0.0, 5.0, 10.0, 20.0)
+    assert all(type(t) is float for t in scene.output_times)
+    tomli_w.dumps(scene.to_table())
+    result = conslaw.simulate(dataclasses.replace(scene, t_end=1.0, output_times=(1.0,)))
+    assert result.final.t == 1.0
+    two = load_any_scene("sh2d-similarity", {"parameters.delta": np.float64(0.0)})
+    assert type(two.parameters["delta"]) is float
+
+
+def test_kernel_constants_are_written_as_python_literals() -> None:
+    import numpy as np
+
+    from conslaw.kernelgen.generation import _literal
+
+    assert [_literal(v) for v in (np.True_, np.False_, True, np.int64(3), 7)] == [
+        "True", "False", "True", "3", "7",
+    ]  # fmt: skip
+    assert _literal(np.float32(0.5)) == "0.5" and _literal(np.float64(1e-3)) == "0.001"
+    with pytest.raises(TypeError, match="kernel constant"):
+        _literal("yes")

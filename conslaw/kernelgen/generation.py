@@ -20,6 +20,7 @@ import getpass
 import hashlib
 import importlib
 import importlib.util
+import numbers
 import os
 import sys
 import tempfile
@@ -30,6 +31,7 @@ from types import CodeType, ModuleType
 from typing import Any
 
 import numba
+import numpy as np
 from numba.core.caching import Cache
 
 from conslaw.errors import KernelCacheError
@@ -243,6 +245,18 @@ def _template_imports(text: str) -> dict[str, Any]:
     return objects
 
 
+def _literal(value: object) -> str:
+    """A constant as Python source: a numpy scalar as the Python number or bool it holds
+    (numpy 2 writes ``numpy.True_`` as ``np.True_``, a name the generated module lacks)."""
+    if isinstance(value, bool | np.bool_):
+        return repr(bool(value))
+    if isinstance(value, numbers.Integral):
+        return repr(int(value))
+    if isinstance(value, numbers.Real):
+        return repr(float(value))
+    raise TypeError(f"a kernel constant must be a bool, int or float, got {value!r}")
+
+
 def _binding_block(block: str, statements: list[str]) -> str:
     """The binding block rewritten with ``statements`` in exactly as many lines as the template's
     block has, so that every line after it keeps the template's line number (tracebacks and
@@ -377,7 +391,7 @@ def _generate(
         module_name, name = import_path(function)
         statements.append(f"from {module_name} import {name} as {placeholder}")
         roots[placeholder] = function
-    statements += [f"{key} = {value!r}" for key, value in sorted((constants or {}).items())]
+    statements += [f"{key} = {_literal(value)}" for key, value in sorted((constants or {}).items())]
     if _BEGIN in text:
         head, rest = text.split(_BEGIN, 1)
         block, tail = rest.split(_END, 1)
