@@ -319,3 +319,19 @@ def test_raster_deposit_overlap(tmp_path: Path) -> None:
     assert residuals([observation], {}, shifted).tolist() == pytest.approx([(1 - overlap) / 0.05])
     with pytest.raises(ConfigError, match="no cell of the scene is covered"):
         read_deposit(path, 2, Grid2D.from_bounds(500.0, 600.0, 4, 0.0, 50.0, 4))
+
+
+def test_numpy_inputs_run_and_write(truth: dict[str, Any], tmp_path: Path) -> None:
+    """Observations, bounds, settings and tolerances given as numpy numbers and arrays (from
+    Python) are taken as Python values: the calibration runs and its JSON file is written
+    (a numpy setting used to fail there, after every member had run)."""
+    observed = {"runout_length": np.float32(truth["summary"]["runout_length"])}
+    result = calibrate(
+        SCENE, observed, {"parameters.delta": np.array([20.0, 35.0])},
+        settings={"n_cells": np.int64(200)}, tolerance={"runout_length": np.float64(0.3)},
+        out=tmp_path / "calibration", options=OPTIONS, report=quiet,
+    )  # fmt: skip
+    assert abs(result.fitted["parameters.delta"] - TRUE_DELTA) < 0.1
+    document = json.loads((tmp_path / "calibration" / "calibration.json").read_text())
+    assert document["fitted"] == result.fitted
+    assert result.observations[0].sigma == 0.3

@@ -21,6 +21,7 @@ from functools import partial
 from pathlib import Path
 from typing import Any
 
+from conslaw.config import plain_values
 from conslaw.ensemble.engine import engine_for
 from conslaw.ensemble.fitting import (
     COARSE_PER_KEY,
@@ -39,7 +40,7 @@ from conslaw.ensemble.fitting import (
     uncertainty_stage,
 )
 from conslaw.ensemble.observations import Observation, parse_number, read_observations, split_pair
-from conslaw.ensemble.study import scene_source
+from conslaw.ensemble.study import plain_settings, scene_source
 from conslaw.errors import ConfigError, shown
 from conslaw.output.files import (
     atomic_write_bytes,
@@ -317,7 +318,8 @@ def calibrate(
         ``{"parameters.delta": (20, 35)}`` or ``["parameters.delta=20:35"]``: the fitted keys
         and their bounds. Each starts from the scene's value (after ``settings``).
     settings : mapping, optional
-        Scene keys set for every member, as ``--set``.
+        Scene keys set for every member, as ``--set``. Here and in ``observed``, ``fit`` and
+        ``tolerance``, numpy numbers and arrays are taken as the Python values they hold.
     tolerance : mapping or sequence of str, optional
         The standard error ``sigma_i`` of an observation, in its units (default:
         :data:`~conslaw.ensemble.observations.RELATIVE_ERROR` of its magnitude).
@@ -344,7 +346,9 @@ def calibrate(
         Bad input (before any member runs), or no member of the coarse stage finished.
     """
     source = scene_source(scene)[0]
-    chosen_settings = dict(settings or {})
+    chosen_settings = plain_settings(settings or {})
+    observed, fit = plain_values(observed), plain_values(fit)
+    tolerance = plain_values(tolerance)
     keys = fit_keys(source, chosen_settings, _fits(fit))
     observations = _observations(source, chosen_settings, observed, tolerance)
     chosen = _checked_options(options, len(keys))

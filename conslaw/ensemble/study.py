@@ -22,6 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from conslaw import signals
+from conslaw.config import plain_values
 from conslaw.ensemble.dataset import build_dataset, check_format, write_dataset
 from conslaw.ensemble.design import Variation, draw, parse_variation
 from conslaw.ensemble.engine import DaskEngine, LocalEngine, WorkerLostError, engine_for
@@ -315,19 +316,15 @@ def _restart(
     return stalls + 1
 
 
-def _plain_settings(settings: Mapping[str, Any]) -> dict[str, Any]:
-    """The keys set for every member as plain JSON values (numpy numbers as Python ones), as
-    ``study.json`` keeps them; a value JSON cannot hold is a ConfigError naming its key."""
-
-    def plain(value: Any) -> Any:
-        if isinstance(value, np.generic):
-            return value.item()
-        raise TypeError(type(value).__name__)
-
+def plain_settings(settings: Mapping[str, Any]) -> dict[str, Any]:
+    """The keys set for every member (of a study or a calibration) as plain JSON values (numpy
+    numbers and arrays as Python ones, :func:`conslaw.config.plain_values`), as ``study.json``
+    and ``calibration.json`` keep them; a value JSON cannot hold is a ConfigError naming its
+    key."""
     chosen = {}
     for key, value in settings.items():
         try:
-            chosen[str(key)] = json.loads(json.dumps(value, default=plain))
+            chosen[str(key)] = json.loads(json.dumps(plain_values(value)))
         except (TypeError, ValueError) as error:
             raise ConfigError(f"--set {key}: {value!r} is not a scene value ({error})") from None
     return chosen
@@ -420,7 +417,7 @@ def run_study(
     chosen, file_format = _options(options)
     source, digest = scene_source(scene)
     spec = StudySpec(
-        source, _plain_settings(settings or {}), [], design, int(samples), int(seed),
+        source, plain_settings(settings or {}), [], design, int(samples), int(seed),
         bool(chosen.get("fields", False)), chosen.get("depth_threshold"), digest,
     )  # fmt: skip
     variations = _variations(vary)
