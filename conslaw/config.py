@@ -311,13 +311,16 @@ def plain_values(value: Any) -> Any:
     lists (``output_times=numpy.linspace(0, 20, 5)``), inside lists, tuples and mappings too:
     a scene given from Python with numbers from numpy holds what a TOML file would (the
     model's flags stay Python bools, the kernels' constants Python literals)."""
-    if isinstance(value, np.generic | np.ndarray):
+    numeric = (np.number, np.bool_, np.str_)
+    if isinstance(value, numeric) or (
+        isinstance(value, np.ndarray) and value.dtype.kind in "biufU"
+    ):
         return value.tolist()  # a scalar's Python value; an array as (nested) lists
     if isinstance(value, Mapping):
         return {key: plain_values(item) for key, item in value.items()}
-    if isinstance(value, list | tuple):
-        return type(value)(plain_values(item) for item in value)
-    return value
+    if isinstance(value, list | tuple):  # a namedtuple too: its values, as a tuple
+        return (list if isinstance(value, list) else tuple)(plain_values(v) for v in value)
+    return value  # datetime64, timedelta64 and the rest: refused by the validation
 
 
 def apply_overrides(

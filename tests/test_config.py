@@ -214,3 +214,17 @@ def test_kernel_constants_are_written_as_python_literals() -> None:
     assert _literal(np.float32(0.5)) == "0.5" and _literal(np.float64(1e-3)) == "0.001"
     with pytest.raises(TypeError, match="kernel constant"):
         _literal("yes")
+
+
+def test_numpy_dates_and_namedtuples_keep_their_meaning() -> None:
+    """A numpy date is not a number, and a namedtuple stays a tuple: both refused by the
+    validation in one line naming the key (not a TypeError from rebuilding the namedtuple)."""
+    from collections import namedtuple
+
+    import numpy as np
+
+    with pytest.raises(ConfigError, match="n_cells"):
+        load_scene("burgers-sine", {"n_cells": np.datetime64(200, "ns")})
+    Times = namedtuple("Times", "first second")
+    with pytest.raises(ConfigError, match="output_times"):
+        load_scene("burgers-sine", {"output_times": Times(0.1, np.float64(0.2))})
