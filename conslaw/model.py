@@ -255,6 +255,21 @@ class Model(ABC):
         """
         self.check_domain(grid.x.x_min, grid.x.x_max)
 
+    def on_grid_2d(self, grid: Grid2D) -> Model:
+        """The model as a scheme on ``grid`` runs it: the model itself (the default), or, for a
+        model whose own data are finer than the grid's cells (a terrain from a DEM with smaller
+        cells), a copy with those data at the grid's resolution.
+
+        Parameters
+        ----------
+        grid : Grid2D
+
+        Returns
+        -------
+        Model
+        """
+        return self
+
     def check_boundaries_2d(self, kinds: Mapping[str, str]) -> None:
         """Raise ConfigError if a 2D model's own data cannot take the side kinds ``kinds``
         (``left``, ``right``, ``bottom``, ``top`` -> kind name); the default accepts any.

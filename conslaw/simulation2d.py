@@ -44,10 +44,10 @@ def error_norms_2d(numerical: Array, exact: Array) -> ErrorNorms:
 
 def build_2d(scene: Scene2D) -> tuple[Model, Grid2D, Any, Array]:
     """The model, grid, scheme and initial cell averages of a 2D scene."""
-    model = scene.model_instance()
     grid = Grid2D.from_bounds(
         scene.x_min, scene.x_max, scene.nx, scene.y_min, scene.y_max, scene.ny
     )
+    model = scene.model_instance().on_grid_2d(grid)
     needed = run_bytes(scene.n_cells, model.n_vars, model.n_aux, len(scene.output_times) + 4)
     room = available_bytes()
     if room is not None and needed > room:

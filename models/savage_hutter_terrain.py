@@ -30,6 +30,7 @@ x; ``earth_pressure = "isotropic"`` is invariant under rotation).
 
 from __future__ import annotations
 
+import copy
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -69,6 +70,7 @@ from conslaw_models.terrain_surface import (
     ParaboloidBowl,
     PlaneToFlat,
     TerrainSurface,
+    coarser,
 )
 
 Array = NDArray[np.float64]
@@ -501,6 +503,28 @@ class SavageHutterTerrain(TwoEarthPressures, TwoDimensionalRows, DepthAveragedMo
                 f"boundary.{periodic[0]}: periodic sides need a terrain that repeats (terrain = "
                 f"'plane'); a '{self.params.terrain}' terrain does not"
             )
+
+    def on_grid_2d(self, grid: Grid2D) -> SavageHutterTerrain:
+        """On a grid of cells larger than the DEM's, a copy whose surface is the DEM averaged over
+        the grid's cells (:meth:`GriddedSurface.from_dem`): sampled at the points of a coarser
+        grid, a DEM's features smaller than a cell (a channel rim, a cliff) alias into slopes and
+        curvatures that jump from cell to cell, and the curvature term, explicit in the
+        velocity squared, is stable only for a curvature the grid resolves (docs/design.md,
+        "Savage–Hutter on terrain"). Otherwise the model itself.
+
+        Parameters
+        ----------
+        grid : Grid2D
+
+        Returns
+        -------
+        SavageHutterTerrain
+        """
+        if self.dem is None or not coarser(grid, self.dem.cell_size):
+            return self
+        resolved = copy.copy(self)
+        resolved.surface = GriddedSurface.from_dem(self.dem, self.params.dem_smoothing, grid)
+        return resolved
 
     def check_domain_2d(self, grid: Grid2D) -> None:
         """The terrain must cover the domain, and the cells be square (for the release areas

@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from conslaw.errors import ConfigError
+from conslaw.grid2d import Grid2D
 from conslaw.terrain.dem import DigitalElevationModel
 from conslaw.terrain.generated import plane_to_flat_profile
 
@@ -244,17 +245,55 @@ class GriddedSurface:
             )
         return None
 
+    def cell_averages(self, x_edges: Array, y_edges: Array) -> Array:
+        """The mean of the spline over every cell ``[x_edges[j], x_edges[j + 1]] x
+        [y_edges[k], y_edges[k + 1]]``, ``(len(y_edges) - 1, len(x_edges) - 1)``: exact, as
+        the tensor product of the B-spline basis functions' integrals over the edges
+        (``scipy.interpolate.BSpline.antiderivative``) with the spline's coefficients; a
+        plane's averages are its values at the cell centres.
+
+        Parameters
+        ----------
+        x_edges, y_edges : numpy.ndarray
+            Ascending, within the spline's samples and their padding.
+
+        Returns
+        -------
+        numpy.ndarray
+        """
+        from scipy.interpolate import BSpline
+
+        knots_y, knots_x, coefficients = self._spline.tck
+        degree_y, degree_x = self._spline.degrees
+
+        def basis_means(knots: Array, degree: int, edges: Array) -> Array:
+            count = len(knots) - degree - 1
+            integral = BSpline(knots, np.eye(count), degree).antiderivative()(edges)
+            return np.diff(integral, axis=0) / np.diff(edges)[:, None]
+
+        along_x = basis_means(knots_x, degree_x, np.asarray(x_edges, dtype=np.float64))
+        along_y = basis_means(knots_y, degree_y, np.asarray(y_edges, dtype=np.float64))
+        table = coefficients.reshape(along_y.shape[1], along_x.shape[1])
+        return np.asarray(along_y @ table @ along_x.T, dtype=np.float64)
+
     @classmethod
-    def from_dem(cls, dem: DigitalElevationModel, smoothing: float = 0.0) -> GriddedSurface:
+    def from_dem(
+        cls, dem: DigitalElevationModel, smoothing: float = 0.0, grid: Grid2D | None = None
+    ) -> GriddedSurface:
         """The spline through the cell centres of ``dem``, after a Gaussian filter of
         standard deviation ``smoothing`` cells (``scipy.ndimage.gaussian_filter``, the edges
-        continued by their nearest values) if it is above 0.
+        continued by their nearest values) if it is above 0; on a ``grid`` of cells larger than
+        the DEM's, the spline through that spline's means over the grid's cells
+        (:meth:`cell_averages`): the terrain at the resolution a scheme on ``grid`` can
+        resolve (docs/design.md, "Savage–Hutter on terrain").
 
         Parameters
         ----------
         dem : DigitalElevationModel
         smoothing : float
             Cells; 0 for none.
+        grid : Grid2D, optional
+            The cells a scheme runs on; None (or cells no larger than the DEM's): the DEM's own.
 
         Returns
         -------
@@ -266,4 +305,24 @@ class GriddedSurface:
             from scipy.ndimage import gaussian_filter
 
             elevation = gaussian_filter(elevation, smoothing, mode="nearest")
-        return cls(x, y, elevation)
+        surface = cls(x, y, elevation)
+        if grid is None or not coarser(grid, dem.cell_size):
+            return surface
+        x_grid, y_grid = grid.centres()
+        averages = surface.cell_averages(grid.x.edges, grid.y.edges)
+        return cls(x_grid, y_grid, averages)
+
+
+def coarser(grid: Grid2D, cell_size: float) -> bool:
+    """Whether the cells of ``grid`` are larger than ``cell_size`` (by more than 1e-9 of it).
+
+    Parameters
+    ----------
+    grid : Grid2D
+    cell_size : float
+
+    Returns
+    -------
+    bool
+    """
+    return max(grid.dx, grid.dy) > cell_size * (1.0 + 1e-9)

@@ -151,14 +151,14 @@ def test_no_allocation_per_step() -> None:
     assert counts[0] == counts[1], f"allocations for {steps} steps: {counts}"
 
 
-def test_thin_tail_velocity_bound_matches_reference_in_a_later_block(
+def test_film_velocity_bound_matches_reference_in_a_later_block(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     """A cap sliding down an 89-degree chute leaves a thin tail in the kernel's second block of
     cells. The kernel bounds tail velocities in a second pass over the block
-    (``bound_tail_velocities``); every step equals the numpy reference to ``1e-12 max|q|``, and
+    (``bound_film_velocities``); every step equals the numpy reference to ``1e-12 max|q|``, and
     the bound changes at least one new cell in that block (checked against the reference with
-    the bound switched off, ``THIN_TAIL = 0``)."""
+    the bound switched off, ``FILM = 0``)."""
     from stability_cases import _cap, scheme
 
     import conslaw.schemes.nessyahu_tadmor.scheme as nt_module
@@ -175,16 +175,16 @@ def test_thin_tail_velocity_bound_matches_reference_in_a_later_block(
         error = np.abs(compiled.q - reference.q).max()
         assert error <= 1e-12 * np.abs(state.q).max(), f"t={state.t}: {error:.3e}"
         with monkeypatch.context() as patch:
-            patch.setattr(nt_module, "THIN_TAIL", 0.0)
+            patch.setattr(nt_module, "FILM", 0.0)
             unbounded = nt.reference_step(state, dt)
         bounded_cells.extend(np.flatnonzero(unbounded.q[1] != reference.q[1]))
         state = compiled
     assert any(block <= cell < 2 * block for cell in bounded_cells), bounded_cells
 
 
-def test_bound_tail_velocities_updates_counts_and_speeds() -> None:
-    """The second pass over a block recounts what it changes: two thin tails over a dry bed
-    whose velocity range is [.., 0] are stopped (u = 1 and an overflowing u, both bounded to 0).
+def test_bound_film_velocities_updates_counts_and_speeds() -> None:
+    """The second pass over a block recounts what it changes: two films over a dry bed whose
+    velocity range is [.., 0] are stopped (u = 1 and an overflowing u, both bounded to 0).
     Both leave the count of moving cells, the overflowing one the count of cells without a finite
     wave speed, and the SPEED row gets the wave speed of the bounded state."""
     from stability_cases import scheme
@@ -196,14 +196,15 @@ def test_bound_tail_velocities_updates_counts_and_speeds() -> None:
     src[:, ng - 1] = [1.0, -5.0]  # deep, supercritical to the left: range [-7, -3]
     src[:, ng] = [1e-6, -5e-6]  # thin, the same velocity; the cells to the right are dry
     dst = np.zeros_like(src)
-    dst[:, ng] = [1e-6, 1e-6]  # thin tail moving right, u = 1 above the range
-    dst[:, ng + 1] = [1e-10, 1e308]  # thinner tail whose velocity overflows
+    dst[:, ng] = [1e-6, 1e-6]  # a film moving right, u = 1 above the range
+    dst[:, ng + 1] = [1e-10, 1e308]  # a thinner film whose velocity overflows
     speeds = kernels.SPEED * kernels.STRIDE + np.arange(2)
     work = np.zeros(kernels.work_size(nt.n_staggered))
     work[speeds] = [1.0 + 1e-3, np.inf]  # |u| + sqrt(g h) before the bound
     aux = nt._aux[0.0][0]
-    moving_change, bad_change = kernels.bound_tail_velocities(
-        src, dst, ng, ng, 2, 0.01, aux, aux, nt.params, work
+    film = 1e-2  # FILM times the deepest source cell: the cell of depth 1 is flow
+    moving_change, bad_change = kernels.bound_film_velocities(
+        src, dst, ng, ng, 2, 0.01, aux, aux, nt.params, work, film
     )
     assert (moving_change, bad_change) == (-2, -1)
     np.testing.assert_array_equal(dst[1, ng : ng + 2], [0.0, 0.0])
@@ -225,7 +226,7 @@ def test_step_returns_the_counts_and_speed_of_its_new_state(
     ``nt_step`` returns for the time loop (the largest wave speed, the first bad cell, the number
     of moving cells) is what its new state has, although the thin-tail bound changes cells after
     the block's loop counted them. The bound acts in most of these steps and changes the largest
-    wave speed in some (found with the reference step with ``THIN_TAIL = 0``)."""
+    wave speed in some (found with the reference step with ``FILM = 0``)."""
     from stability_cases import scheme
 
     import conslaw.schemes.nessyahu_tadmor.scheme as nt_module
@@ -258,7 +259,7 @@ def test_step_returns_the_counts_and_speed_of_its_new_state(
         admissible += bad == -1
         reference = nt.reference_step(state, dt)
         with monkeypatch.context() as patch:
-            patch.setattr(nt_module, "THIN_TAIL", 0.0)
+            patch.setattr(nt_module, "FILM", 0.0)
             unbounded = nt.reference_step(state, dt)
         if np.any(unbounded.q[1] != reference.q[1]):
             bounded += 1

@@ -206,7 +206,7 @@ def test_wet_shallow_water_conserves_momentum(
 ) -> None:
     """Shallow water on a flat periodic bed with every depth in [0.1, 10] (no dry cell, so the
     dry-cell correction never acts) conserves mass and momentum to round-off, Froude numbers up
-    to about 16 included. Guards the velocity bound (``THIN_TAIL``), which is not conservative:
+    to about 16 included. Guards the velocity bound of films (``FILM``), which is not conservative:
     it once acted in wet cells and took 5 % of the momentum of a Froude-10 Riemann problem."""
     n = min(len(depth), len(velocity))
     h = np.array(depth[:n])

@@ -418,3 +418,64 @@ def test_generated_dems_refuse_bad_parameters(call: Callable[[], object], cause:
     with pytest.raises(ConfigError) as info:
         call()
     assert cause in str(info.value) and "\n" not in str(info.value)
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    ratio=st.floats(1.2, 6.0),
+    shift=st.tuples(st.floats(0.0, 1.0), st.floats(0.0, 1.0)),
+    gradient=st.tuples(st.floats(-2.0, 2.0), st.floats(-2.0, 2.0)),
+)
+def test_averaging_onto_coarser_cells_keeps_a_plane_exactly(
+    ratio: float, shift: tuple[float, float], gradient: tuple[float, float]
+) -> None:
+    """A plane averaged over the cells of any coarser grid, shifted against the DEM's cells by
+    any fraction of a cell, is the plane's value at their centres (the means of a linear
+    function), to round-off of the elevations."""
+    from conslaw.grid2d import Grid2D
+    from conslaw_models.terrain_surface import GriddedSurface
+
+    dem = dem_from_function(
+        lambda x, y: 1500.0 + gradient[0] * x + gradient[1] * y, (0.0, 500.0), (0.0, 300.0), 5.0
+    )
+    cell = 5.0 * ratio
+    nx, ny = int(400.0 // cell), int(250.0 // cell)
+    x0, y0 = 10.0 + 5.0 * shift[0], 10.0 + 5.0 * shift[1]
+    grid = Grid2D.from_bounds(x0, x0 + nx * cell, nx, y0, y0 + ny * cell, ny)
+    surface = GriddedSurface.from_dem(dem, 0.0, grid)
+    x, y = grid.centres()
+    plane = 1500.0 + gradient[0] * x[None, :] + gradient[1] * y[:, None]
+    np.testing.assert_array_equal(surface.x_centres, x)
+    np.testing.assert_array_equal(surface.y_centres, y)
+    np.testing.assert_allclose(surface.elevation, plane, rtol=0, atol=1e-9)
+
+
+def test_a_terrain_model_reads_a_finer_dem_at_its_grid(tmp_path: Path) -> None:
+    """On a grid of the DEM's own cells the terrain model is itself; on coarser cells a copy
+    whose surface passes through the means of the DEM's spline over the grid's cells (checked
+    against scipy's own integral of the spline, cell by cell), so a 30 m step between two 5 m
+    cells reads as a slope of the order of the drop over a 20 m cell, not over a 5 m one."""
+    from conslaw.grid2d import Grid2D
+    from conslaw_models.savage_hutter_terrain import SavageHutterTerrain
+
+    step = dem_from_function(
+        lambda x, y: np.where(x < 200.0, 30.0, 0.0) + 0.0 * y, (0, 400), (0, 200), 5.0
+    )
+    model = SavageHutterTerrain(terrain="dem", dem_file=str(write_dem(step, tmp_path / "s.tif")))
+    same = Grid2D.from_bounds(0.0, 400.0, 80, 0.0, 200.0, 40)
+    assert model.on_grid_2d(same) is model
+    coarse = Grid2D.from_bounds(0.0, 400.0, 20, 0.0, 200.0, 10)
+    resolved = model.on_grid_2d(coarse)
+    assert resolved is not model and resolved.surface is not model.surface
+    x, y = coarse.centres()
+    z = resolved.surface.derivatives(x[None, :], y[:, None])[0]
+    spline = model.surface._spline  # rows y, columns x
+    edges_x, edges_y = coarse.x.edges, coarse.y.edges
+    for k, j in ((0, 0), (4, 9), (4, 10), (9, 19)):
+        area = 400.0
+        mean = spline.integral(edges_y[k], edges_y[k + 1], edges_x[j], edges_x[j + 1]) / area
+        assert z[k, j] == pytest.approx(mean, abs=1e-9)
+    at_step = (np.array([200.0]), np.array([100.0]))
+    coarse_slope = abs(float(resolved.surface.derivatives(*at_step)[1][0]))
+    fine_slope = abs(float(model.surface.derivatives(*at_step)[1][0]))
+    assert 30.0 / 20.0 < coarse_slope < 2.0 * 30.0 / 20.0 < 30.0 / 5.0 < fine_slope

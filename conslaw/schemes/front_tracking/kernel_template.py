@@ -61,13 +61,14 @@ from conslaw.schemes.nessyahu_tadmor.kernel_template import (
     _resistance_point,
     _source_point,
     bound_momentum_slope,
-    bounded_tail_momentum,
+    bounded_film_momentum,
     cell_velocity,
     col,
     copy_cells,
+    film_depth,
     finished_slope,
     hold_static_runs,
-    in_thin_tail,
+    in_film,
     interface_fluxes,
     load_params,
     local_matrix,
@@ -493,17 +494,24 @@ def quarter_resistance(right, left, source, a, b, params, coefficients):
 
 
 @njit(cache=True, error_model="numpy")
-def ft_bound_tails(src, dst, first, count, dt, aux_centre, params):
-    """The thin-tail velocity bound of the new cells ``NG .. NG + count - 1`` (as the NT
-    kernel's :func:`bound_tail_velocities`, after the loop that counted the tails)."""
+def ft_bound_films(src, dst, first, count, dt, source, target, params, film):
+    """The velocity bound of the films among the new cells ``NG .. NG + count - 1`` (as the NT
+    kernel's :func:`bound_film_velocities`, after the loop that counted the films)."""
     probe = local_vector(NV)
     probe_coefficients = local_vector(NAUX)
     result = local_vector(NV)
+    state = local_vector(NV)
+    coefficients = local_vector(NAUX)
     for j in range(count):
         new = col(NG + j)
-        bounded, changed = bounded_tail_momentum(
-            src, first + j, dst[DEPTH, new], dst[MOMENTUM, new], dt, aux_centre, params,
-            probe, probe_coefficients, result,
+        for v in range(NV):
+            state[v] = dst[v, new]
+        for k in range(NAUX):
+            coefficients[k] = target.aux[k, new]
+        bounded, changed = bounded_film_momentum(
+            src, first + j, dst[DEPTH, new], dst[MOMENTUM, new], dt, source.aux, params,
+            probe, probe_coefficients, result, film,
+            _max_speed_point(state, coefficients, params),
         )  # fmt: skip
         if changed:
             dst[MOMENTUM, new] = bounded
@@ -513,7 +521,7 @@ def ft_bound_tails(src, dst, first, count, dt, aux_centre, params):
 def ft_average(src, dst, first, source, target, dt, dx, parameters, work):
     """The new cells ``NG .. NG + target.cells - 1`` (eq. 10) from the source cells from
     ``first`` on, with the sources on the mid-step mass (``adjust_source_depths``), the
-    resistance, the correction and the thin-tail velocity bound."""
+    resistance, the correction and the velocity bound of films."""
     state = local_vector(NV)
     left = local_vector(NV)
     right = local_vector(NV)
@@ -525,7 +533,8 @@ def ft_average(src, dst, first, source, target, dt, dx, parameters, work):
     load_params(parameters, params)
     half_dt = 0.5 * dt
     ratio = dt / dx
-    tails = 0
+    films = 0
+    film = film_depth(src, source.cells)
     rest = rest_rows(work)
     for j in range(target.cells):
         a = col(first + j)
@@ -582,11 +591,11 @@ def ft_average(src, dst, first, source, target, dt, dx, parameters, work):
         if HAS_CORRECTION:
             _correct_point(state, coefficients, params, dt)
         # Counted here, bounded after the loop (as the NT kernel's average_cells does).
-        tails += int(in_thin_tail(src, first + j, state[DEPTH]))
+        films += int(in_film(state[DEPTH], film))
         for v in range(NV):
             dst[v, new] = state[v]
-    if tails > 0:
-        ft_bound_tails(src, dst, first, target.cells, dt, source.aux, params)
+    if films > 0:
+        ft_bound_films(src, dst, first, target.cells, dt, source, target, params, film)
 
 
 @njit(cache=True)

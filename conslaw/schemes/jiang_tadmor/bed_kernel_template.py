@@ -17,7 +17,7 @@ do not import directly. A step has two passes over the source family before the 
    at least its floor, 0 in a still cell, then what the predicted fluxes drain), the predictor
    with the source, the staggered average with the depth's twist, the emptied-cell rule and the
    well-balanced source (:func:`bed_terms_row`), the model's correction and the velocity bound
-   of thin tails with the source (:func:`bound_tails_bed`).
+   of films with the source (:func:`bound_films_bed`).
 
 The arithmetic of every cell is the reference's, operation for operation (no fast-math), so the
 two agree to round-off.
@@ -31,7 +31,7 @@ from numba import njit, prange
 from conslaw.kernelgen.stack import local_matrix, local_vector
 from conslaw.reconstruct.dispatch import builtin_slopes, builtin_slopes_across
 from conslaw.schemes.jiang_tadmor.constants import QUARTER_MARGIN, STILL, TINY
-from conslaw.schemes.nessyahu_tadmor.constants import ROUND_OFF
+from conslaw.schemes.nessyahu_tadmor.constants import FILM, ROUND_OFF
 
 # The flat kernels' names this template uses: generated, the import names the flat kernel module
 # of the same model and reconstructor (kernels.jt_bed_kernels).
@@ -63,7 +63,7 @@ from conslaw.schemes.jiang_tadmor.kernel_template import (
     average_row,
     bounded_momentum_slope,
     chunk_rows,
-    clamp_velocity,
+    clamp_film,
     correct_cell,
     col,
     quarter_outside,
@@ -71,8 +71,11 @@ from conslaw.schemes.jiang_tadmor.kernel_template import (
     row_statistics,
     row_velocities,
     store_fluxes,
-    thin_tail,
+    film_of,
+    new_speeds,
+    start_film_bounds,
     velocity_at,
+    widen_film_bounds,
 )
 
 # --- bindings ---
@@ -489,45 +492,52 @@ def correct_row_bed(out, k, step, params, bed):
 
 
 @njit(cache=True, error_model="numpy")
-def velocity_window_bed(w, bed, m, row, c, step, params):
-    """Smallest ``u - 2c - dt |s|/h`` and largest ``u + 2c + dt |s|/h`` of momentum ``m`` over
-    the 4 x 4 padded cells from ``(row, c)`` (``c`` the wave speed less ``|u|`` along the
-    momentum's direction, ``s`` its source; :meth:`JiangTadmorReference._bound_velocities`)."""
+def film_window_bed(w, bed, row, c, step, film, params, bounds):
+    """The flat kernel's ``film_window`` over a bed: a cell of the flow (at least ``film`` deep)
+    pushes by ``dt |s_m| / h`` along momentum ``m`` (``s`` its source;
+    :meth:`JiangTadmorReference._bound_velocities`)."""
     q, aux, source = local_vector(NV), local_vector(NAUX), local_vector(NV)
-    lowest, highest = np.inf, -np.inf
+    speeds, pushes = local_vector(2), local_vector(2)
+    start_film_bounds(bounds)
     for r in range(row, row + 4):
         for i in range(c, c + 4):
             for v in range(NV):
                 q[v] = w[v, r, i]
             for a in range(NAUX):
                 aux[a] = bed.aux[a, r, i]
-            u = velocity_at(w, m, r, i)
-            if m == MOMENTUM_Y:
-                speed = _max_speed_y_point(q, aux, params)
-            else:
-                speed = _max_speed_point(q, aux, params)
-            wave = max(speed - abs(u), 0.0)
             _source_point(q, aux, params, source)
             depth = q[DEPTH]
-            change = (abs(source[m]) + 0.0) / depth if depth > 0.0 else 0.0
-            lowest = min(lowest, u - 2.0 * wave - step.dt * change)
-            highest = max(highest, u + 2.0 * wave + step.dt * change)
-    return lowest, highest
+            flow = depth >= film and depth > 0.0
+            for n in range(2):
+                m = MOMENTUM if n == 0 else MOMENTUM_Y
+                change = (abs(source[m]) + 0.0) / depth if flow else 0.0
+                pushes[n] = step.dt * change
+            speeds[0] = _max_speed_point(q, aux, params)
+            speeds[1] = _max_speed_y_point(q, aux, params)
+            widen_film_bounds(
+                bounds, velocity_at(w, MOMENTUM, r, i), velocity_at(w, MOMENTUM_Y, r, i), speeds,
+                pushes,
+            )  # fmt: skip
 
 
 @njit(cache=True, error_model="numpy")
-def bound_tails_bed(w, out, k, step, params, bed):
-    """The velocity bound of thin tails in new row ``k`` over a bed: the flat kernel's
-    ``bound_tails`` with each bound widened by ``dt |s| / h`` (:func:`velocity_window_bed`)."""
+def bound_films_bed(w, out, k, step, params, bed):
+    """The velocity bound of the films of new row ``k`` over a bed: the flat kernel's
+    ``bound_films`` with the flow's widening by its source (:func:`film_window_bed`)."""
+    film = FILM * step.deepest
+    bounds = local_vector(5)
+    speeds = local_vector(2)
+    aux = local_vector(NAUX)
     for j in range(step.columns):
-        depth = thin_tail(w, out, k, j, step)
+        depth = film_of(out, k, j, film)
         if depth > 0.0:
-            for n in range(MOMENTA):
-                m = FIRST_MOMENTUM if n == 0 else MOMENTUM_Y
-                window = velocity_window_bed(
-                    w, bed, m, step.first + k - 1, step.first + j - 1, step, params
-                )
-                clamp_velocity(out, m, k, j, depth, window[0], window[1])
+            film_window_bed(
+                w, bed, step.first + k - 1, step.first + j - 1, step, film, params, bounds
+            )
+            for a in range(NAUX):
+                aux[a] = bed.aux_new[a, NG + k, NG + j]
+            new_speeds(out, k, j, aux, params, speeds)
+            clamp_film(out, k, j, depth, bounds, speeds)
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
@@ -547,5 +557,5 @@ def step_family_bed(w, out, work, statistics, params, step, bed):
             bed_terms_row(w, out, k, step, params, low, high, bed)
             if HAS_CORRECTION:
                 correct_row_bed(out, k, step, params, bed)
-            bound_tails_bed(w, out, k, step, params, bed)
+            bound_films_bed(w, out, k, step, params, bed)
             row_statistics(out, k, step.columns, params, statistics)

@@ -6,6 +6,11 @@ template, so that importing them does not import a template)."""
 #: velocity of the range is round-off of the 1D bound along each direction, not a new extreme.
 QUARTER_MARGIN = 1e-12
 
+#: Relative margin of the speed bound of films (``JiangTadmorReference._bound_velocities``): a
+#: film's speed above the largest speed of its window by less than this is round-off of the bounds
+#: along x and y (which imply the speed bound where the data vary along one axis), not an extreme.
+SPEED_MARGIN = 1e-12
+
 #: The smallest normal double: a momentum below it has lost its relative precision (subnormal),
 #: so a quarter's momentum within this of the range's bound is inside.
 TINY = 2.2250738585072014e-308

@@ -15,7 +15,7 @@ copy of the physics (docs/design.md, "Toward two dimensions"):
   work array has (``work.shape[0]``), run with numba's ``prange``. A chunk computes each source
   row once (:func:`predict_row`: slopes in x and y, the depth rules, the predictor and the fluxes
   of the predicted values, into one of two work rows that take turns), then the new row between
-  the last two (:func:`average_row`), its thin-tail velocity bound (:func:`bound_tails`) and its
+  the last two (:func:`average_row`), the velocity bound of its films (:func:`bound_films`) and its
   largest wave speeds and smallest depth (:func:`row_statistics`), which is all the time loop
   needs from the new state. A source row is computed twice only where two chunks meet.
 - **Registers, not arrays, per cell.** The model's pointwise functions fill stack arrays of a
@@ -34,6 +34,8 @@ operation (no fast-math), so the two agree to round-off.
 
 from typing import NamedTuple  # noqa: I001 (the binding block below is replaced when generated)
 
+import math
+
 import numpy as np
 from numba import njit, prange
 
@@ -43,11 +45,12 @@ from conslaw.schemes.jiang_tadmor.constants import (
     DEEPEST,
     LOWEST,
     QUARTER_MARGIN,
+    SPEED_MARGIN,
     SPEED_X,
     SPEED_Y,
     TINY,
 )
-from conslaw.schemes.nessyahu_tadmor.constants import DEPTH_SLOPE_LIMIT, THIN_TAIL
+from conslaw.schemes.nessyahu_tadmor.constants import DEPTH_SLOPE_LIMIT, FILM
 
 # --- bindings ---
 from conslaw.pointwise import (
@@ -111,8 +114,8 @@ class Sides(NamedTuple):
 class Step(NamedTuple):
     """What one step reads besides the states: the first padded source row and column
     (``NG - 1`` from the primary family, ``NG`` from the staggered), the new family's rows and
-    columns, the time step, the cell widths and the largest depth of the source family (no new
-    cell shallower than ``THIN_TAIL`` times it is a thin tail, :func:`bound_tails`)."""
+    columns, the time step, the cell widths and the largest depth of the source family (a new
+    cell shallower than ``FILM`` times it is a film, :func:`bound_films`)."""
 
     first: int
     rows: int
@@ -458,44 +461,111 @@ def correct_cell(out, row, c, q, aux, local, dt):
         out[v, row, c] = q[v]
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def widen_film_bounds(bounds, u, v, speeds, pushes):
+    """Take a source cell of velocity ``(u, v)``, wave speeds ``speeds`` along x and y and
+    pushes ``pushes`` (the velocity its source and resistance can change in one step, 0 for a
+    film or a dry cell) into a film's ``bounds``: the smallest ``u - 2c - push`` and largest ``u
+    + 2c + push`` along x (``c = max(speed - |u|, 0)``), the same along y, and the largest speed
+    ``|(u, v)|`` widened by the larger of the two directions' ``2c + push`` (docs/design.md,
+    "Films")."""
+    twice_x = 2.0 * max(speeds[0] - abs(u), 0.0)
+    twice_y = 2.0 * max(speeds[1] - abs(v), 0.0)
+    bounds[0] = min(bounds[0], u - twice_x - pushes[0])
+    bounds[1] = max(bounds[1], u + twice_x + pushes[0])
+    bounds[2] = min(bounds[2], v - twice_y - pushes[1])
+    bounds[3] = max(bounds[3], v + twice_y + pushes[1])
+    widest = max(max(0.0, twice_x + pushes[0]), twice_y + pushes[1])
+    bounds[4] = max(bounds[4], math.sqrt(u * u + v * v) + widest)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def start_film_bounds(bounds):
+    """Bounds that hold nothing, before the source cells widen them."""
+    for n in range(0, 4, 2):
+        bounds[n] = np.inf
+        bounds[n + 1] = -np.inf
+    bounds[4] = -np.inf
+
+
 @njit(cache=True, error_model="numpy")
-def velocity_window(w, m, row, c, along_y, params):
-    """Smallest ``u - 2c`` and largest ``u + 2c`` of momentum ``m`` over the 4 x 4 padded cells
-    from ``(row, c)`` (``c`` the wave speed less ``|u|`` along the momentum's direction)."""
+def film_window(w, row, c, params, bounds):
+    """The ``bounds`` (:func:`widen_film_bounds`) of a film over the 4 x 4 padded cells from
+    ``(row, c)``, for a model without a source (no cell pushes)."""
     q, aux = local_vector(NV), local_vector(NAUX)
+    speeds, pushes = local_vector(2), local_vector(2)
     for a in range(NAUX):
         aux[a] = 0.0
-    lowest, highest = np.inf, -np.inf
+    pushes[0], pushes[1] = 0.0, 0.0
+    start_film_bounds(bounds)
     for r in range(row, row + 4):
         for i in range(c, c + 4):
             for v in range(NV):
                 q[v] = w[v, r, i]
-            u = velocity_at(w, m, r, i)
-            if along_y:
-                speed = _max_speed_y_point(q, aux, params)
-            else:
-                speed = _max_speed_point(q, aux, params)
-            wave = max(speed - abs(u), 0.0)
-            lowest = min(lowest, u - 2.0 * wave)
-            highest = max(highest, u + 2.0 * wave)
-    return lowest, highest
+            u = velocity_at(w, MOMENTUM, r, i)
+            speeds[0] = _max_speed_point(q, aux, params)
+            v_y, speeds[1] = 0.0, 0.0
+            if MOMENTUM_Y >= 0:
+                v_y = velocity_at(w, MOMENTUM_Y, r, i)
+                speeds[1] = _max_speed_y_point(q, aux, params)
+            widen_film_bounds(bounds, u, v_y, speeds, pushes)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def thin_tail(w, out, k, j, step):
-    """The depth of new cell ``(k, j)`` if it is a thin tail, a wet cell shallower than
-    ``THIN_TAIL`` times the deepest of the 4 x 4 cells its update reads, else 0."""
+def film_celerity(speed, velocity):
+    """The celerity ``c`` of a new film along one direction: its wave speed ``speed`` less
+    ``|velocity|``, 0 if that is not a positive number (a velocity that overflows)."""
+    celerity = speed - abs(velocity)
+    return celerity if celerity > 0.0 else 0.0
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def clamp_film(out, k, j, depth, bounds, speeds):
+    """New cell ``(k, j)`` (of ``depth``, wave speeds ``speeds`` along x and y before the
+    bound), a film: along each direction its Riemann invariants within ``bounds`` and its
+    velocity between rest and them, then the momentum shortened along itself where its speed
+    plus ``2c`` is above the largest of the bounds by more than round-off (``SPEED_MARGIN``;
+    the reference's ``_bound_velocities``)."""
+    celerity_x = film_celerity(speeds[0], out[MOMENTUM, NG + k, NG + j] / depth)
+    celerity_y = 0.0
+    if MOMENTUM_Y >= 0:
+        celerity_y = film_celerity(speeds[1], out[MOMENTUM_Y, NG + k, NG + j] / depth)
+    low = min(bounds[0] + 2.0 * celerity_x, 0.0)
+    high = max(bounds[1] - 2.0 * celerity_x, 0.0)
+    clamp_velocity(out, MOMENTUM, k, j, depth, low, high)
+    v = 0.0
+    if MOMENTUM_Y >= 0:
+        low = min(bounds[2] + 2.0 * celerity_y, 0.0)
+        high = max(bounds[3] - 2.0 * celerity_y, 0.0)
+        clamp_velocity(out, MOMENTUM_Y, k, j, depth, low, high)
+        v = out[MOMENTUM_Y, NG + k, NG + j] / depth
+    u = out[MOMENTUM, NG + k, NG + j] / depth
+    speed = math.sqrt(u * u + v * v)
+    cap = max(bounds[4] - 2.0 * max(celerity_x, celerity_y), 0.0)
+    if speed > cap * (1.0 + SPEED_MARGIN):
+        scale = cap / speed
+        out[MOMENTUM, NG + k, NG + j] = out[MOMENTUM, NG + k, NG + j] * scale
+        if MOMENTUM_Y >= 0:
+            out[MOMENTUM_Y, NG + k, NG + j] = out[MOMENTUM_Y, NG + k, NG + j] * scale
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def new_speeds(out, k, j, aux, params, speeds):
+    """The wave speeds along x and y of new cell ``(k, j)`` with coefficients ``aux`` into
+    ``speeds``."""
+    q = local_vector(NV)
+    for v in range(NV):
+        q[v] = out[v, NG + k, NG + j]
+    speeds[0] = _max_speed_point(q, aux, params)
+    speeds[1] = _max_speed_y_point(q, aux, params) if MOMENTUM_Y >= 0 else 0.0
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def film_of(out, k, j, film):
+    """The depth of new cell ``(k, j)`` if it is a film (wet and shallower than ``film``), else
+    0."""
     depth = out[DEPTH, NG + k, NG + j]
-    # Deeper than THIN_TAIL times the deepest cell anywhere: not a thin tail (the 4 x 4 window
-    # below is read only where it may be).
-    if not (depth >= DRY_DEPTH and depth > 0.0 and depth < THIN_TAIL * step.deepest):
-        return 0.0
-    row, c = step.first + k - 1, step.first + j - 1
-    deepest = -np.inf
-    for r in range(row, row + 4):
-        for i in range(c, c + 4):
-            deepest = max(deepest, w[DEPTH, r, i])
-    return depth if depth < THIN_TAIL * deepest else 0.0
+    return depth if (depth >= DRY_DEPTH and depth > 0.0 and depth < film) else 0.0
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -510,37 +580,24 @@ def clamp_velocity(out, m, k, j, depth, lowest, highest):
 
 
 @njit(cache=True, error_model="numpy")
-def bound_tails(w, out, k, step, params):
-    """The velocity bound of thin tails in new row ``k``
-    (:meth:`JiangTadmorReference._bound_velocities` without a source): a thin tail
-    (:func:`thin_tail`) keeps each velocity between the smallest ``u - 2c`` and the largest
-    ``u + 2c`` of the 4 x 4 cells its update reads."""
-    # Written out here, not through thin_tail and clamp_velocity (which the bed kernel calls):
-    # with them inlined the flat step took 10% longer (docs/performance.md, 250^2, interleaved).
-    row = step.first + k - 1
-    bound = THIN_TAIL * step.deepest
+def bound_films(w, out, k, step, params):
+    """The velocity bound of the films of new row ``k`` (:meth:`JiangTadmorReference.
+    _bound_velocities` without a source, docs/design.md, "Films"): a new cell shallower than
+    ``FILM`` times the deepest source cell keeps its Riemann invariants within those of the 4 x 4
+    cells its update reads and its velocity between rest and them, and its speed plus ``2c`` at
+    most their largest."""
+    film = FILM * step.deepest
+    bounds = local_vector(5)
+    speeds = local_vector(2)
+    aux = local_vector(NAUX)
+    for a in range(NAUX):
+        aux[a] = 0.0
     for j in range(step.columns):
-        depth = out[DEPTH, NG + k, NG + j]
-        # Deeper than THIN_TAIL times the deepest cell anywhere: not a thin tail (the 4 x 4
-        # window below is read only where it may be).
-        if not (depth >= DRY_DEPTH and depth > 0.0 and depth < bound):
-            continue
-        c = step.first + j - 1
-        deepest = -np.inf
-        for r in range(row, row + 4):
-            for i in range(c, c + 4):
-                deepest = max(deepest, w[DEPTH, r, i])
-        if not depth < THIN_TAIL * deepest:
-            continue
-        for m in (MOMENTUM, MOMENTUM_Y):
-            if m < 0:
-                continue
-            lowest, highest = velocity_window(w, m, row, c, m == MOMENTUM_Y, params)
-            u = out[m, NG + k, NG + j] / depth
-            if u < lowest:
-                out[m, NG + k, NG + j] = lowest * depth
-            elif u > highest:
-                out[m, NG + k, NG + j] = highest * depth
+        depth = film_of(out, k, j, film)
+        if depth > 0.0:
+            film_window(w, step.first + k - 1, step.first + j - 1, params, bounds)
+            new_speeds(out, k, j, aux, params, speeds)
+            clamp_film(out, k, j, depth, bounds, speeds)
 
 
 @njit(cache=True, error_model="numpy")
@@ -603,7 +660,7 @@ def step_family(w, out, work, statistics, params, step):
             if HAS_CORRECTION:
                 correct_row(out, k, step, params)
             if DEPTH >= 0 and MOMENTUM >= 0:
-                bound_tails(w, out, k, step, params)
+                bound_films(w, out, k, step, params)
             row_statistics(out, k, step.columns, params, statistics)
 
 

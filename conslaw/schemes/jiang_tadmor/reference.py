@@ -77,14 +77,14 @@ from conslaw.schemes.jiang_tadmor.bed import (
     rows_of_quarters,
     still_water_depth,
 )
-from conslaw.schemes.jiang_tadmor.constants import QUARTER_MARGIN, STILL, TINY
+from conslaw.schemes.jiang_tadmor.constants import QUARTER_MARGIN, SPEED_MARGIN, STILL, TINY
 from conslaw.schemes.jiang_tadmor.quarter_sources import (
     CORNERS,
     add_quarter_terms,
     corners,
     resist,
 )
-from conslaw.schemes.nessyahu_tadmor.constants import DEPTH_SLOPE_LIMIT, ROUND_OFF, THIN_TAIL
+from conslaw.schemes.nessyahu_tadmor.constants import DEPTH_SLOPE_LIMIT, FILM, ROUND_OFF
 
 Array = NDArray[np.float64]
 
@@ -165,6 +165,24 @@ def quarter_velocity_outside(
             (moment < low * depth - slack) | (moment > high * depth + slack)
         )
     return outside
+
+
+def metric_speed(u: Array, v: Array, slopes: tuple[Array, Array] | None) -> Array:
+    """The speed of map velocity ``(u, v)``: ``(u^2 + v^2)^(1/2)``, or with a surface gradient
+    ``slopes = (b_x, b_y)`` the speed in the surface, ``(u^2 + v^2 + (b_x u + b_y v)^2)^(1/2)``
+    (``Model.tangent_slope_rows``; docs/design.md, "Savage–Hutter on terrain")."""
+    squared = u * u + v * v
+    if slopes is not None:
+        along = slopes[0] * u + slopes[1] * v
+        squared = squared + along * along
+    return np.sqrt(squared)
+
+
+def _pair_of(velocities: list[Array]) -> tuple[Array, Array]:
+    """The x and y velocities of a model with one or two momenta (a missing one 0)."""
+    if len(velocities) == 1:
+        return velocities[0], np.zeros_like(velocities[0])
+    return velocities[0], velocities[1]
 
 
 def inflow_states(
@@ -847,7 +865,7 @@ class JiangTadmorReference:
                 self.uses["resistance"],
                 self._tangent_slopes(self.family_aux(not staggered)),
             )
-        return self._finish(new, w, first, staggered, dt)
+        return self._finish(new, w, first, staggered, dt, self.film_depth(q))
 
     def _with_cell_coefficients(self, quarter: Array, cells: Array) -> Array:
         """A contiguous copy of the static coefficients ``quarter`` of source cells at one of
@@ -916,15 +934,26 @@ class JiangTadmorReference:
             fluxes_y.append(model.flux(q, corner_aux, direction="y").reshape(shape))
         return tuple(fluxes_x), tuple(fluxes_y)
 
-    def _finish(self, new: Array, w: Array, first: int, staggered: bool, dt: float) -> Array:
-        """The model's correction of the new cells, then the velocity bound of thin tails."""
+    def film_depth(self, q: Array) -> float:
+        """``FILM`` times the deepest cell of the family ``q`` (0 for a model without a depth): a
+        new cell shallower than this is a film, a source cell at least this deep is flow
+        (docs/design.md, "Films")."""
+        depth = self.model.depth_index
+        if depth is None:
+            return 0.0
+        return FILM * float(np.max(q[depth], initial=0.0))
+
+    def _finish(
+        self, new: Array, w: Array, first: int, staggered: bool, dt: float, film: float
+    ) -> Array:
+        """The model's correction of the new cells, then the velocity bound of films."""
         model = self.model
         if self.uses["correction"]:
             aux_new = self.family_aux(not staggered)
             flat_aux = _columns(aux_new)
             new = model.correct(_columns(new), flat_aux, dt).reshape(new.shape)
         if model.depth_index is not None and model.momentum_index is not None:
-            self._bound_velocities(w, first, staggered, dt, new)
+            self._bound_velocities(w, first, staggered, dt, new, film)
         return new
 
     def _predictor(
@@ -980,44 +1009,89 @@ class JiangTadmorReference:
         )
 
     def _bound_velocities(
-        self, w: Array, first: int, staggered: bool, dt: float, new: Array
+        self, w: Array, first: int, staggered: bool, dt: float, new: Array, film: float
     ) -> None:
-        """The 1D velocity bound of thin tails (``NessyahuTadmor._bound_velocities``), per
-        momentum: the velocity of a new wet cell shallower than ``THIN_TAIL`` times the deepest
-        of the 4 x 4 cells its update reads stays between their smallest ``u - 2c`` and largest
-        ``u + 2c`` (``c`` the wave speed less ``|u|`` along that momentum's direction), widened by
-        ``dt |s| / h``."""
+        """The velocity bound of films (docs/design.md, "Films"), in place: a new wet cell
+        shallower than ``film`` keeps, along each momentum's direction, its Riemann invariants
+        ``u -+ 2c`` within the smallest ``u - 2c`` and the largest ``u + 2c`` of the 4 x 4 cells
+        its update reads (``c`` the wave speed less ``|u|`` along that direction), those of the
+        flow (at least ``film`` deep) widened by ``dt a``, ``a = (|s_m| + R) / h``, and its
+        velocity between rest and that range (the 1D ``NessyahuTadmor._bound_velocities`` per
+        momentum); then its speed is bounded likewise (:meth:`_cap_film_speeds`)."""
         model = self.model
         d = model.depth_index
         assert d is not None
+        h_new = new[d]
+        films = (h_new >= model.dry_depth()) & (h_new > 0.0) & (h_new < film)
+        if not np.any(films):
+            return
         n_rows, n_columns = new.shape[1:]
-        block = w[:, first - 1 : first + n_rows + 2, first - 1 : first + n_columns + 2]
-        aux = self._aux[staggered][
-            :, first - 1 : first + n_rows + 2, first - 1 : first + n_columns + 2
-        ]
+        window = (
+            slice(None),
+            slice(first - 1, first + n_rows + 2),
+            slice(first - 1, first + n_columns + 2),
+        )
+        block, aux = w[window], self._aux[staggered][window]
         flat, flat_aux = _columns(block), _columns(aux)
+        new_aux = _columns(self.family_aux(not staggered))
         h = block[d]
         wet = (h >= model.dry_depth()) & (h > 0.0)
-        source = model.source(flat, flat_aux).reshape(block.shape)
-        h_new = new[d]
-        deepest = _window_extreme(h, True)
-        wet_new = (h_new >= model.dry_depth()) & (h_new > 0.0) & (h_new < THIN_TAIL * deepest)
-        for m, direction in ((model.momentum_index, "x"), (model.momentum_y_index, "y")):
-            if m is None:
-                continue
+        flow = (h >= film) & (h > 0.0)
+        rate = model.source(flat, flat_aux).reshape(block.shape)
+        resistance = model.resistance(flat, flat_aux).reshape(h.shape)
+        safe_new = np.where(films, h_new, 1.0)
+        momenta = [
+            (m, direction)
+            for m, direction in ((model.momentum_index, "x"), (model.momentum_y_index, "y"))
+            if m is not None
+        ]
+        celerities = []
+        for m, direction in momenta:  # of the new cells, before the bound
+            with np.errstate(invalid="ignore"):
+                speed = model.max_wave_speed(_columns(new), new_aux, direction=direction)
+                celerity = speed.reshape(h_new.shape) - np.abs(new[m] / safe_new)
+            celerities.append(np.where(films & (celerity > 0.0), celerity, 0.0))
+        spreads, velocities = [], []
+        for (m, direction), celerity_new in zip(momenta, celerities, strict=True):
             u = np.where(wet, block[m] / np.where(wet, h, 1.0), 0.0)
             speed = model.max_wave_speed(flat, flat_aux, direction=direction).reshape(h.shape)
-            c = np.maximum(speed - np.abs(u), 0.0)
-            rate = np.abs(source[m]) + model.resistance(flat, flat_aux).reshape(h.shape)
-            change = np.where(h > 0.0, rate / np.where(h > 0.0, h, 1.0), 0.0)
-            lo = _window_extreme(u - 2.0 * c - dt * change, False)
-            hi = _window_extreme(u + 2.0 * c + dt * change, True)
-            u_new = np.where(wet_new, new[m] / np.where(wet_new, h_new, 1.0), 0.0)
+            change = np.where(flow, (np.abs(rate[m]) + resistance) / np.where(flow, h, 1.0), 0.0)
+            twice, push = 2.0 * np.maximum(speed - np.abs(u), 0.0), dt * change
+            lo = np.minimum(_window_extreme(u - twice - push, False) + 2.0 * celerity_new, 0.0)
+            hi = np.maximum(_window_extreme(u + twice + push, True) - 2.0 * celerity_new, 0.0)
+            u_new = np.where(films, new[m] / safe_new, 0.0)
             new[m] = np.where(
-                wet_new & (u_new < lo),
+                films & (u_new < lo),
                 lo * h_new,
-                np.where(wet_new & (u_new > hi), hi * h_new, new[m]),
+                np.where(films & (u_new > hi), hi * h_new, new[m]),
             )
+            spreads.append(twice + push)
+            velocities.append(u)
+        widest = np.maximum(np.maximum.reduce(spreads), 0.0)
+        reach = metric_speed(*_pair_of(velocities), self._tangent_slopes(aux)) + widest
+        cap = np.maximum(_window_extreme(reach, True) - 2.0 * np.maximum.reduce(celerities), 0.0)
+        self._cap_film_speeds(new, staggered, films, cap)
+
+    def _cap_film_speeds(
+        self, new: Array, staggered: bool, films: NDArray[np.bool_], cap: Array
+    ) -> None:
+        """The momentum of every film among the new cells ``new`` shortened along itself where
+        its speed in the model's metric (:func:`metric_speed`) is above ``cap`` (the largest
+        speed of the cells its update reads, widened as its velocities are, less twice its own
+        celerity) by more than round-off (``SPEED_MARGIN``), in place."""
+        model = self.model
+        assert model.depth_index is not None
+        rows = [m for m in (model.momentum_index, model.momentum_y_index) if m is not None]
+        safe = np.where(films, new[model.depth_index], 1.0)
+        moving = [np.where(films, new[m] / safe, 0.0) for m in rows]
+        speed = metric_speed(
+            *_pair_of(moving), self._tangent_slopes(self.family_aux(not staggered))
+        )
+        over = films & (speed > cap * (1.0 + SPEED_MARGIN))
+        if np.any(over):
+            scale = np.where(over, cap / np.where(over, speed, 1.0), 1.0)
+            for m in rows:
+                new[m] = np.where(over, new[m] * scale, new[m])
 
     def _pair(self, q: Array, dt: float) -> tuple[Array | None, float]:
         """A step pair of ``dt`` each from the primary family, as the 1D kernel's

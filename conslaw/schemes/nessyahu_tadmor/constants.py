@@ -10,13 +10,17 @@ array machinery) into every process.
 #: the flux at the centre still drains it, and no time step helps).
 DEPTH_SLOPE_LIMIT = 2.0
 
-#: The velocity bound (new velocities within the Riemann-invariant range of their four source
-#: cells) acts only in a thin tail: a new cell shallower than this fraction of the deepest of its
-#: source cells. There the staggered average is a small difference of large terms and its velocity
-#: can be an artefact (u = -1.9 upslope at depth 3e-5 behind a body of depth 1); elsewhere the
-#: clamp, which is not conservative, would change the momentum of a wet flow (a Froude-10 shallow
-#: water Riemann problem lost 5 % of its momentum).
-THIN_TAIL = 1e-3
+#: A wet new cell shallower than this fraction of the deepest cell of its source family is a
+#: *film*: films carry velocities, they do not make them (docs/design.md, "Films"). Its Riemann
+#: invariants stay within those of the cells its update reads, which only the cells of the flow
+#: (at least this fraction of the deepest) widen by what their source and resistance can change in
+#: one step, and its velocity between rest and them. There the staggered average is a small
+#: difference of large terms and its velocity can be an artefact (u = -1.9 upslope at depth 3e-5
+#: behind a body of depth 1); films on the flanks of the channel of AvaFrame's hockey stick, bounded
+#: by the films around them, outran the flow until the time step collapsed. The bound is not
+#: conservative, so it acts in films only (a Froude-10 shallow water Riemann problem lost 5 %
+#: of its momentum when it acted in wet cells).
+FILM = 1e-2
 
 #: A sum of depths that comes out below 0 by no more than this many units of round-off of its
 #: terms (relative to the sum of their magnitudes) is 0: the cell was emptied exactly, and only

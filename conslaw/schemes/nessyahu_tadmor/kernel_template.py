@@ -26,8 +26,8 @@ How the kernel is made fast without a second copy of the physics:
 - **Registers, not arrays, per cell.** The model's pointwise functions fill small arrays; here
   those are stack arrays of a compile-time size (:mod:`conslaw.kernelgen.stack`). After inlining,
   LLVM keeps them in registers, and the loops over the cells of a block compile to SIMD code.
-- **Rare work out of the per-cell loops.** The thin-tail velocity bound acts in a few cells,
-  so :func:`average_cells` only counts them and :func:`bound_tail_velocities` bounds them in a
+- **Rare work out of the per-cell loops.** The velocity bound of films acts in a few cells,
+  so :func:`average_cells` only counts them and :func:`bound_film_velocities` bounds them in a
   second pass over the block (a branch in the loop kept it from vectorising; docs/performance.md,
   "How the kernel is fast").
 - **Unsigned column indices** (:func:`col`): numba wraps negative indices around, a select per
@@ -65,7 +65,7 @@ from typing import NamedTuple  # noqa: I001 (the binding block below is replaced
 import numpy as np
 from numba import njit
 
-from conslaw.schemes.nessyahu_tadmor.constants import DEPTH_SLOPE_LIMIT, ROUND_OFF, THIN_TAIL
+from conslaw.schemes.nessyahu_tadmor.constants import DEPTH_SLOPE_LIMIT, FILM, ROUND_OFF
 from conslaw.kernelgen.stack import local_matrix, local_vector
 from conslaw.reconstruct.dispatch import builtin_slopes
 
@@ -411,28 +411,29 @@ def resist(momentum, impulse):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def velocity_range(src, i, dt, aux_centre, params, state, coefficients, out):
-    """``(u - 2c - dt a, u + 2c + dt a)`` of padded cell i: its Riemann invariants (``c`` the
-    wave speed less ``|u|``), widened by the velocity a source and a resistance can add or remove
-    in one step (``a = (|s_m| + R) / h``).
+def velocity_range(src, i, dt, aux_centre, params, state, coefficients, out, film):
+    """The Riemann invariants ``(u - 2c, u + 2c)`` of padded cell i (``c`` the wave speed less
+    ``|u|``), widened, if the cell is flow (at least ``film`` deep), by the velocity ``dt a`` its
+    source and resistance can add or remove in one step (``a = (|s_m| + R) / h``).
 
     In the exact solution the Riemann invariants ``u -+ 2c`` obey a maximum principle, so a new
-    velocity outside the range of the cells its update reads is an artefact. It appears where the
-    staggered average of a draining cell is a small difference of large terms (the tail a sliding
-    body leaves behind), whose momentum and depth do not cancel alike: a tail of depth 3e-5 behind
-    a body sliding down an 89-degree chute at 0.4 got u = -1.9 (upslope). The clamp is not
-    conservative, so it acts only there: in a new cell shallower than ``THIN_TAIL`` times the
-    deepest of its source cells."""
+    film whose invariants leave the range of those of the cells its update reads is an artefact.
+    It appears where the staggered average of a draining cell is a small difference of large
+    terms (the tail a sliding body leaves behind), whose momentum and depth do not cancel alike:
+    a tail of depth 3e-5 behind a body sliding down an 89-degree chute at 0.4 got u = -1.9
+    (upslope). Only the flow widens the range by its forces: a film's own source (on terrain its
+    curvature term, quadratic in its velocity) widened it step by step (docs/design.md,
+    "Films")."""
     c = col(i)
+    u = cell_velocity(src, i)
     for v in range(NV):
         state[v] = src[v, c]
     for k in range(NAUX):
         coefficients[k] = aux_centre[k, c]
-    u = cell_velocity(src, i)
     celerity = max(_max_speed_point(state, coefficients, params) - abs(u), 0.0)
     h = src[DEPTH, c]
     change = 0.0
-    if h > 0.0:
+    if h >= film and h > 0.0:
         if HAS_SOURCE:
             _source_point(state, coefficients, params, out)
             change += abs(out[MOMENTUM]) / h
@@ -470,14 +471,14 @@ def predict_point(
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def tail_velocity_range(src, i, dt, aux_centre, params, state, coefficients, out):
-    """Smallest lower and largest upper end of :func:`velocity_range` over padded cells
-    ``i .. i + 3`` (the four source cells of a new cell); ``state``, ``coefficients`` and ``out``
+def film_velocity_range(src, i, dt, aux_centre, params, state, coefficients, out, film):
+    """The smallest lower and the largest upper end of :func:`velocity_range` over padded cells
+    ``i .. i + 3`` (the four source cells of a new cell). ``state``, ``coefficients`` and ``out``
     are scratch."""
-    low, high = velocity_range(src, i, dt, aux_centre, params, state, coefficients, out)
-    for other in range(i + 1, i + 4):
+    low, high = np.inf, -np.inf
+    for other in range(i, i + 4):
         other_low, other_high = velocity_range(
-            src, other, dt, aux_centre, params, state, coefficients, out
+            src, other, dt, aux_centre, params, state, coefficients, out, film
         )
         low = min(low, other_low)
         high = max(high, other_high)
@@ -609,29 +610,48 @@ def no_finite_speed(speed):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def in_thin_tail(src, left, depth):
-    """Whether a new cell of depth ``depth`` over source cells ``left``, ``left + 1`` is a thin
-    tail: wet, and shallower than ``THIN_TAIL`` times the deepest of its four source cells
-    ``left - 1 .. left + 2`` (where the velocity bound of :func:`bound_tail_velocities` acts)."""
-    deepest = max(
-        max(src[DEPTH, col(left - 1)], src[DEPTH, col(left)]),
-        max(src[DEPTH, col(left + 1)], src[DEPTH, col(left + 2)]),
-    )
-    return depth >= DRY_DEPTH and depth > 0.0 and depth < THIN_TAIL * deepest
+def film_celerity(speed, velocity):
+    """The celerity ``c`` of a new film: its wave speed ``speed`` less ``|velocity|``, 0 if that
+    is not a positive number (a velocity that overflows, an inadmissible state)."""
+    celerity = speed - abs(velocity)
+    return celerity if celerity > 0.0 else 0.0
+
+
+@njit(cache=True, inline="always")
+def in_film(depth, film):
+    """Whether a new cell of depth ``depth`` is a film: wet, and shallower than ``film`` (``FILM``
+    times the deepest cell of its source family; where :func:`bound_film_velocities` acts)."""
+    return depth >= DRY_DEPTH and depth > 0.0 and depth < film
+
+
+@njit(cache=True)
+def film_depth(src, n):
+    """``FILM`` times the deepest of the ``n`` real cells of ``src``: a new cell shallower than
+    this is a film, a source cell at least this deep is flow."""
+    deepest = 0.0
+    for i in range(NG, NG + n):
+        deepest = max(deepest, src[DEPTH, col(i)])
+    return FILM * deepest
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def bounded_tail_momentum(
-    src, left, depth, momentum, dt, aux_centre, params, state, coefficients, out
+def bounded_film_momentum(
+    src, left, depth, momentum, dt, aux_centre, params, state, coefficients, out, film, speed
 ):
-    """``(momentum, changed)`` of a new cell of depth ``depth`` over source cells ``left``,
-    ``left + 1`` after the thin-tail bound: in a thin tail (:func:`in_thin_tail`) a velocity
-    outside the range of the four source cells (:func:`tail_velocity_range`) is moved to the
-    nearer end of it. ``state``, ``coefficients`` and ``out`` are scratch."""
-    if not in_thin_tail(src, left, depth):
+    """``(momentum, changed)`` of a new cell of depth ``depth`` and wave speed ``speed`` over
+    source cells ``left``, ``left + 1`` after the bound of films: in a film (:func:`in_film`) a
+    velocity whose Riemann invariants leave the range of those of the four source cells
+    (:func:`film_velocity_range`), or that lies beyond rest and that range, is moved to the
+    nearer end. ``state``, ``coefficients`` and ``out`` are scratch."""
+    if not in_film(depth, film):
         return momentum, False
-    low, high = tail_velocity_range(src, left - 1, dt, aux_centre, params, state, coefficients, out)
+    low, high = film_velocity_range(
+        src, left - 1, dt, aux_centre, params, state, coefficients, out, film
+    )
     velocity = momentum / depth
+    celerity = film_celerity(speed, velocity)
+    low = min(low + 2.0 * celerity, 0.0)
+    high = max(high - 2.0 * celerity, 0.0)
     if velocity < low:
         return low * depth, True
     if velocity > high:
@@ -640,12 +660,14 @@ def bounded_tail_momentum(
 
 
 @njit(cache=True, error_model="numpy")
-def bound_tail_velocities(src, dst, first, dst_first, count, dt, aux_centre, aux_dst, params, work):
-    """In each thin tail (:func:`in_thin_tail`) among the new cells ``dst_first ..
-    dst_first + count - 1``, clamp the velocity to the range of its four source cells
-    (:func:`tail_velocity_range`), and redo its wave speed in the SPEED row.
+def bound_film_velocities(
+    src, dst, first, dst_first, count, dt, aux_centre, aux_dst, params, work, film
+):
+    """In each film (:func:`in_film`) among the new cells ``dst_first .. dst_first + count -
+    1``, clamp the velocity to the range of its four source cells (:func:`film_velocity_range`),
+    and redo its wave speed in the SPEED row.
 
-    A second pass over a block in which :func:`average_cells` counted a thin tail (rare), with
+    A second pass over a block in which :func:`average_cells` counted a film (rare), with
     the same arithmetic as a clamp inside that loop. Returns the change in its counts of moving
     cells and of cells without a finite wave speed (the depth, and so the count of negative
     depths, is not changed).
@@ -660,18 +682,19 @@ def bound_tail_velocities(src, dst, first, dst_first, count, dt, aux_centre, aux
     for j in range(count):
         new = col(dst_first + j)
         momentum = dst[MOMENTUM, new]
-        bounded, changed = bounded_tail_momentum(
+        for v in range(NV):
+            state[v] = dst[v, new]
+        for k in range(NAUX):
+            coefficients[k] = aux_dst[k, new]
+        bounded, changed = bounded_film_momentum(
             src, first + j, dst[DEPTH, new], momentum, dt, aux_centre, params, probe,
-            probe_coefficients, result,
+            probe_coefficients, result, film, _max_speed_point(state, coefficients, params),
         )  # fmt: skip
         if not changed:
             continue
         dst[MOMENTUM, new] = bounded
         moving_change += int(bounded != 0.0) - int(momentum != 0.0)
-        for v in range(NV):
-            state[v] = dst[v, new]
-        for k in range(NAUX):
-            coefficients[k] = aux_dst[k, new]
+        state[MOMENTUM] = bounded
         speed = new_cell_speed(state, coefficients, params)
         bad_change += int(no_finite_speed(speed)) - int(no_finite_speed(work[slot(SPEED, j)]))
         work[slot(SPEED, j)] = speed
@@ -746,11 +769,13 @@ def resisted(work, j, g, momentum, half_dt):
 
 
 @njit(cache=True, error_model="numpy")
-def average_cells(src, dst, first, dst_first, count, dt, dx, aux_centre, aux_dst, parameters, work):
-    """The new cells ``dst_first .. dst_first + count - 1`` (eq. 10) from source cells
-    ``first ..`` and the work columns ``0 .. count``; the wave speed of each new cell goes to the
-    SPEED row (NaN if inadmissible). Returns how many new cells have a negative depth, a non-zero
-    momentum, and no finite wave speed >= 0 (inadmissible, or an overflow)."""
+def average_cells(
+    src, dst, first, dst_first, count, dt, dx, aux_centre, aux_dst, parameters, work, film
+):
+    """The new cells ``dst_first ..`` (eq. 10) of ``count`` from source cells ``first ..`` and
+    the work columns ``0 .. count``, films (shallower than ``film``) bounded; the wave speed of
+    each new cell to the SPEED row (NaN if inadmissible). Returns how many new cells have a
+    negative depth, a non-zero momentum, and no finite wave speed >= 0 (inadmissible, overflow)."""
     state = local_vector(NV)
     predicted = local_vector(NV)
     neighbour = local_vector(NV)
@@ -766,7 +791,7 @@ def average_cells(src, dst, first, dst_first, count, dt, dx, aux_centre, aux_dst
     negative = 0
     moving = 0
     bad = 0
-    tails = 0
+    films = 0
     for j in range(count):
         left = col(first + j)
         right = col(first + j + 1)
@@ -805,10 +830,8 @@ def average_cells(src, dst, first, dst_first, count, dt, dx, aux_centre, aux_dst
             coefficients[k] = aux_dst[k, new]
         if HAS_CORRECTION:
             _correct_point(state, coefficients, params, dt)
-        if DEPTH >= 0 and MOMENTUM >= 0 and in_thin_tail(src, first + j, state[DEPTH]):
-            # Counted only: the bound is applied by bound_tail_velocities after the loop, so
-            # that this loop has no call in a branch and stays vectorised.
-            tails += 1
+        if DEPTH >= 0 and MOMENTUM >= 0 and in_film(state[DEPTH], film):
+            films += 1  # bounded after the loop, so that this one stays vectorised
         for v in range(NV):
             dst[v, new] = state[v]
         if DEPTH >= 0 and state[DEPTH] < 0.0:
@@ -819,9 +842,9 @@ def average_cells(src, dst, first, dst_first, count, dt, dx, aux_centre, aux_dst
         if no_finite_speed(speed):
             bad += 1
         work[slot(SPEED, j)] = speed
-    if tails > 0:
-        moving_change, bad_change = bound_tail_velocities(
-            src, dst, first, dst_first, count, dt, aux_centre, aux_dst, params, work
+    if films > 0:
+        moving_change, bad_change = bound_film_velocities(
+            src, dst, first, dst_first, count, dt, aux_centre, aux_dst, params, work, film
         )
         moving += moving_change
         bad += bad_change
@@ -984,6 +1007,7 @@ def nt_step(src, dst, source, target, shift, dt, dx, params, boundary, work):
     bad = 0
     negative = 0
     moving = 0
+    film = film_depth(src, n_src) if DEPTH >= 0 and MOMENTUM >= 0 else 0.0
     for start in range(0, n_dst, BLOCK):
         count = min(BLOCK, n_dst - start)
         predict_cells(
@@ -991,8 +1015,9 @@ def nt_step(src, dst, source, target, shift, dt, dx, params, boundary, work):
             params, work,
         )  # fmt: skip
         block_negative, block_moving, block_bad = average_cells(
-            src, dst, first + start, NG + start, count, dt, dx, aux_centre, aux_dst, params, work
-        )
+            src, dst, first + start, NG + start, count, dt, dx, aux_centre, aux_dst, params, work,
+            film,
+        )  # fmt: skip
         negative += block_negative
         moving += block_moving
         bad += block_bad

@@ -28,7 +28,7 @@ from conslaw.schemes.base import (
 )
 from conslaw.schemes.coefficient_families import coefficient_family, padded_positions
 from conslaw.schemes.depth_rules import velocity_bounded_slope
-from conslaw.schemes.nessyahu_tadmor.constants import DEPTH_SLOPE_LIMIT, THIN_TAIL
+from conslaw.schemes.nessyahu_tadmor.constants import DEPTH_SLOPE_LIMIT, FILM
 from conslaw.schemes.nessyahu_tadmor.kernels import kernel_parameters, nt_kernels
 from conslaw.state import State
 
@@ -399,7 +399,9 @@ class NessyahuTadmor(Scheme):
             aux_dst = self._aux[0.0 if staggered else 0.5][0][:, GHOSTS : GHOSTS + n_dst]
             new = model.correct(new, aux_dst, dt)
         if model.depth_index is not None and momentum is not None:
-            self._bound_velocities(w, centre, first, dt, new)
+            film = FILM * float(np.max(q[model.depth_index], initial=0.0))
+            aux_new = self._aux[0.0 if staggered else 0.5][0][:, GHOSTS : GHOSTS + n_dst]
+            self._bound_velocities(w, (centre, aux_new), first, dt, new, film)
         if rest_difference is not None and span is not None:
             assert momentum is not None and before_resistance is not None
             ratio = dt / self.grid.dx
@@ -439,12 +441,18 @@ class NessyahuTadmor(Scheme):
         span = dt / self.grid.dx * (model.flux(predicted, high)[momentum] - flux_low)
         return difference, flux_low[1:] - flux_low[:-1], span
 
-    def _bound_velocities(self, w: Array, centre: Array, first: int, dt: float, new: Array) -> None:
-        """numpy version of the kernel's velocity bound (``velocity_range``): the velocity of every
-        new wet cell in a thin tail (shallower than ``THIN_TAIL`` times the deepest of the four
-        cells its update reads) stays between the smallest ``u - 2c`` and the largest ``u + 2c``
-        of those cells, widened by ``dt (|s_m| + R) / h``."""
+    def _bound_velocities(
+        self, w: Array, centres: tuple[Array, Array], first: int, dt: float, new: Array, film: float
+    ) -> None:
+        """numpy version of the kernel's velocity bound of films (``bounded_film_momentum``): a
+        new wet cell shallower than ``film`` (``FILM`` times the deepest source cell) keeps its
+        Riemann invariants ``u -+ 2c`` within the smallest ``u - 2c`` and the largest ``u + 2c``
+        of the four cells its update reads, those of the flow (at least ``film`` deep) widened by
+        ``dt a``, ``a = (|s_m| + R) / h``, and its velocity between rest and that range
+        (docs/design.md, "Films"). ``centres``: the coefficients at the padded source cells'
+        centres and at the new cells'."""
         model = self.model
+        centre, aux_new = centres
         d, m = model.depth_index, model.momentum_index
         assert d is not None and m is not None
         n_dst = new.shape[1]
@@ -455,16 +463,21 @@ class NessyahuTadmor(Scheme):
         u = np.where(wet, q[m] / np.where(wet, h, 1.0), 0.0)
         c = np.maximum(model.max_wave_speed(q, aux) - np.abs(u), 0.0)
         rate = np.abs(model.source(q, aux)[m]) + model.resistance(q, aux)
-        change = np.where(h > 0.0, rate / np.where(h > 0.0, h, 1.0), 0.0)
+        flow = (h >= film) & (h > 0.0)
+        change = np.where(flow, rate / np.where(flow, h, 1.0), 0.0)
         low, high = u - 2.0 * c - dt * change, u + 2.0 * c + dt * change
         lo = np.minimum(np.minimum(low[:-3], low[1:-2]), np.minimum(low[2:-1], low[3:]))
         hi = np.maximum(np.maximum(high[:-3], high[1:-2]), np.maximum(high[2:-1], high[3:]))
         h_new = new[d]
-        deepest = np.maximum(np.maximum(h[:-3], h[1:-2]), np.maximum(h[2:-1], h[3:]))
-        wet_new = (h_new >= model.dry_depth()) & (h_new > 0.0) & (h_new < THIN_TAIL * deepest)
-        u_new = np.where(wet_new, new[m] / np.where(wet_new, h_new, 1.0), 0.0)
+        films = (h_new >= model.dry_depth()) & (h_new > 0.0) & (h_new < film)
+        u_new = np.where(films, new[m] / np.where(films, h_new, 1.0), 0.0)
+        with np.errstate(invalid="ignore"):
+            celerity = model.max_wave_speed(new, aux_new) - np.abs(u_new)
+        celerity = np.where(celerity > 0.0, celerity, 0.0)
+        lo = np.minimum(lo + 2.0 * celerity, 0.0)
+        hi = np.maximum(hi - 2.0 * celerity, 0.0)
         new[m] = np.where(
-            wet_new & (u_new < lo), lo * h_new, np.where(wet_new & (u_new > hi), hi * h_new, new[m])
+            films & (u_new < lo), lo * h_new, np.where(films & (u_new > hi), hi * h_new, new[m])
         )
 
     def _reference_slopes(
