@@ -561,12 +561,14 @@ def overflow() -> Observation:
 
 def time_step_collapse() -> Observation:
     """Burgers with |u| = 1e300 asked to run to t = 1: dt = 0.45 dx / 1e300 is below the floor
-    1e-14 dx; the run stops with SchemeBreakdownError naming time and step instead of hanging."""
+    1e-14 dx; the run stops with SchemeBreakdownError naming time, step, the fastest cell and
+    what to try instead of hanging."""
     nt = scheme("burgers", {}, Grid(0.0, 1.0, 16), "periodic")
     q = np.full((1, 16), 1e300)
     return _stop(
         lambda: nt.advance(State(0.0, nt.grid.centres(), q), 1.0),
         SchemeBreakdownError, "fell below the floor", "t=0", "step 0",
+        "the fastest cell 0 (x=0.03125): u=1e+300", "likely remedies",
     )  # fmt: skip
 
 

@@ -51,6 +51,7 @@ from conslaw.model import Model
 from conslaw.reconstruct import Reconstructor
 from conslaw.schemes.base import AdvanceResult, BoundarySpec, ProgressCallback
 from conslaw.schemes.front_tracking.kernels import ft_kernels
+from conslaw.schemes.nessyahu_tadmor.constants import MAX_RETRIES
 from conslaw.schemes.nessyahu_tadmor.scheme import (
     DT_FLOOR_RELATIVE,
     GHOSTS,
@@ -63,8 +64,6 @@ from conslaw.state import Margin, Margins, State
 
 Array = NDArray[np.float64]
 
-#: Halvings of a step pair's dt allowed before the run stops (as in the compiled kernel).
-MAX_RETRIES = 60
 #: Held while a compiled front-tracking kernel runs with a scheme's call back set (see advance).
 _CALLBACK_LOCK = threading.Lock()
 #: Cell updates per call of the compiled front-tracking kernel between progress reports.

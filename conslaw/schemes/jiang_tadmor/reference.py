@@ -84,7 +84,12 @@ from conslaw.schemes.jiang_tadmor.quarter_sources import (
     corners,
     resist,
 )
-from conslaw.schemes.nessyahu_tadmor.constants import DEPTH_SLOPE_LIMIT, FILM, ROUND_OFF
+from conslaw.schemes.nessyahu_tadmor.constants import (
+    DEPTH_SLOPE_LIMIT,
+    FILM,
+    MAX_RETRIES,
+    ROUND_OFF,
+)
 
 Array = NDArray[np.float64]
 
@@ -1143,7 +1148,8 @@ class JiangTadmorReference:
         Raises
         ------
         SchemeBreakdownError
-            If the time step falls below ``DT_FLOOR dx``.
+            If the time step falls below ``DT_FLOOR dx`` (but to land on ``t_end``) or a pair
+            fails ``MAX_RETRIES`` times (the scheme's time loop).
         """
         steps = 0
         while t < t_end:
@@ -1152,15 +1158,19 @@ class JiangTadmorReference:
             last = 2.0 * dt >= remaining
             if last:
                 dt = 0.5 * remaining
-            end, next_dt = self._pair(q, dt)
-            while end is None:
-                dt, last = next_dt, False
-                if dt < DT_FLOOR * self.grid.dx:
-                    raise SchemeBreakdownError(
-                        f"t={t:g}, step {steps}: the time step fell below {DT_FLOOR:g} dx "
-                        "(a depth stays negative)"
-                    )
+            end = None
+            for _ in range(MAX_RETRIES):
+                if dt < DT_FLOOR * self.grid.dx and not last:
+                    break
                 end, next_dt = self._pair(q, dt)
+                if end is not None:
+                    break
+                dt, last = next_dt, False
+            if end is None:
+                raise SchemeBreakdownError(
+                    f"t={t:g}, step {steps}: the time step fell to {dt:.3g} (below "
+                    f"{DT_FLOOR:g} dx) or a step pair failed {MAX_RETRIES} times"
+                )
             q = end
             t = t_end if last else t + 2.0 * dt
             steps += 2

@@ -26,6 +26,12 @@ from conslaw.grid2d import Grid2D
 from conslaw.kernelgen import compile_lock, compiled_before
 from conslaw.model import Model
 from conslaw.reconstruct import Reconstructor
+from conslaw.schemes.jiang_tadmor.breakdown import (
+    REMEDIES,
+    cell_report,
+    fastest_cell,
+    shallowest_cell,
+)
 from conslaw.schemes.jiang_tadmor.constants import (
     DEEPEST,
     LOWEST,
@@ -42,6 +48,7 @@ from conslaw.schemes.jiang_tadmor.reference import (
     SIDES,
     JiangTadmorReference,
 )
+from conslaw.schemes.nessyahu_tadmor.constants import MAX_RETRIES
 
 Array = NDArray[np.float64]
 
@@ -180,6 +187,10 @@ class JiangTadmor:
                 f"scheme_options.chunks must be in [1, {rows}] (the rows of a step), got {chunks!r}"
             )
         self.compiled = compiles(model)
+        #: The most times a step pair was redone in the run so far (``MAX_RETRIES`` stops it).
+        self.most_retries = 0
+        #: The state buffer whose depth went negative in the last pair tried, or None.
+        self.negative_in: int | None = None
         # The families of a step pair (primary, staggered, primary) and their statistics: per
         # row, padded and reused by the kernel; the reference's values and one row over a bed.
         self.states = [np.zeros((model.n_vars, 0, 0)) for _ in range(3)]
@@ -435,16 +446,19 @@ class JiangTadmor:
     def _pair(self, dt: float) -> tuple[bool, float]:
         """A step pair from buffer 0 (through 1) into buffer 2, as
         :meth:`JiangTadmorReference._pair`: ``(True, dt)`` or ``(False, the step to redo it
-        with)``."""
+        with)``; the buffer whose depth went negative, if one did, in ``self.negative_in``."""
+        self.negative_in = None
         middle = self._step(0, 1, False, dt)
         self._check_finite(1, 1, dt)
         if self._negative_depth(middle):
+            self.negative_in = 1
             return False, 0.5 * dt
         if self._courant_reached(middle, dt):
             return False, self.stable_dt(middle)
         end = self._step(1, 2, True, dt)
         self._check_finite(2, 2, 2.0 * dt)
         if self._negative_depth(end):
+            self.negative_in = 2
             return False, 0.5 * dt
         if not self.compiled and self.reference.held_at_rest(
             self.states[0], self.states[1], self.states[2]
@@ -524,24 +538,52 @@ class JiangTadmor:
         return self._values(0).copy(), t, steps
 
     def _advance_pair(self, t: float, t_end: float, steps: int) -> tuple[float, int]:
-        """One accepted step pair from ``t``; the new time and step count."""
+        """One accepted step pair from ``t``; the new time and step count. A pair is tried at
+        most ``MAX_RETRIES`` times (``self.most_retries`` keeps the most redone so far), and
+        never with a step below ``DT_FLOOR dx`` but to land on ``t_end``: either stops the run
+        (:meth:`_breakdown`), so no run is caught in ever smaller steps."""
         remaining = t_end - t
         dt = self.stable_dt(self.statistics[0])
         last = 2.0 * dt >= remaining
         if last:
             dt = 0.5 * remaining
-        accepted, next_dt = self._pair(dt)
-        while not accepted:
-            dt, last = next_dt, False
-            if dt < DT_FLOOR * self.grid.dx:
-                raise SchemeBreakdownError(
-                    f"t={t:g}, step {steps}: the time step fell below {DT_FLOOR:g} dx "
-                    "(a depth stays negative)"
-                )
+        for tries in range(MAX_RETRIES):
+            if dt < DT_FLOOR * self.grid.dx and not last:
+                cause = f"the time step fell to {dt:.3g}, below {DT_FLOOR:g} dx"
+                raise self._breakdown(t, steps, cause)
             accepted, next_dt = self._pair(dt)
-        self.states[0], self.states[2] = self.states[2], self.states[0]
-        self.statistics[0], self.statistics[2] = self.statistics[2], self.statistics[0]
-        return (t_end if last else t + 2.0 * dt), steps + 2
+            if accepted:
+                self.most_retries = max(self.most_retries, tries)
+                self.states[0], self.states[2] = self.states[2], self.states[0]
+                self.statistics[0], self.statistics[2] = self.statistics[2], self.statistics[0]
+                return (t_end if last else t + 2.0 * dt), steps + 2
+            dt, last = next_dt, False
+        cause = f"a step pair failed {MAX_RETRIES} times, the last with dt={dt:.3g}"
+        raise self._breakdown(t, steps, cause)
+
+    def _breakdown(self, t: float, steps: int, cause: str) -> SchemeBreakdownError:
+        """The one-line error of a run that cannot take its next step pair from ``t``:
+        ``cause``, then the cell of the family whose depth went negative with its smallest
+        depth, or else the fastest cell of the state at ``t``
+        (:mod:`~conslaw.schemes.jiang_tadmor.breakdown`), and what to try."""
+        buffer = self.negative_in or 0
+        staggered = buffer == 1
+        values = self._values(buffer)
+        aux = self.reference.family_aux(staggered) if self.model.n_aux else None
+        if buffer:
+            cell = shallowest_cell(self.model, values)
+            what = "where a depth stays negative"
+        else:
+            cell = fastest_cell(self.model, values, aux)
+            what = "the fastest"
+        family = "staggered " if staggered else ""
+        centres = self.grid.centres(
+            0.5 if staggered else 0.0, self.reference.periodic_x, self.reference.periodic_y
+        )
+        report = cell_report(self.model, values, aux, centres, cell)
+        return SchemeBreakdownError(
+            f"t={t:g}, step {steps}: {cause}; {what} {family}{report}; {REMEDIES}"
+        )
 
 
 class _NotFiniteError(Exception):

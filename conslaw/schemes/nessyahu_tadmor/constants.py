@@ -26,3 +26,10 @@ FILM = 1e-2
 #: terms (relative to the sum of their magnitudes) is 0: the cell was emptied exactly, and only
 #: the rounding of the sum says otherwise.
 ROUND_OFF = 8.0 * 2.0**-52
+
+#: Tries of one step pair before a run stops: a pair is redone with half its step while a depth
+#: would become negative, and with the Courant bound of its staggered values if their Courant
+#: number would reach 1/2; after this many tries (2^-60 of the first step at most) the scheme has
+#: broken down and the run stops with a message naming the time, step and cell (every scheme's
+#: time loop, 1D and 2D).
+MAX_RETRIES = 60

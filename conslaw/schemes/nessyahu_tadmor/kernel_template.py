@@ -65,7 +65,12 @@ from typing import NamedTuple  # noqa: I001 (the binding block below is replaced
 import numpy as np
 from numba import njit
 
-from conslaw.schemes.nessyahu_tadmor.constants import DEPTH_SLOPE_LIMIT, FILM, ROUND_OFF
+from conslaw.schemes.nessyahu_tadmor.constants import (
+    DEPTH_SLOPE_LIMIT,
+    FILM,
+    MAX_RETRIES,
+    ROUND_OFF,
+)
 from conslaw.kernelgen.stack import local_matrix, local_vector
 from conslaw.reconstruct.dispatch import builtin_slopes
 
@@ -114,7 +119,6 @@ STATUS_CFL_UNREACHABLE = 4
 STATUS_SPEED_NOT_FINITE = 5
 # Courant number that the second half of a step pair must stay below (eq. 17: strictly < 1/2).
 CFL_LIMIT = 0.5
-MAX_RETRIES = 60
 
 # New cells per block, and the row length of the work array (BLOCK + 1 source cells, padded).
 BLOCK = 256

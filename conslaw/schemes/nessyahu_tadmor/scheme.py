@@ -607,6 +607,22 @@ class NessyahuTadmor(Scheme):
         count = self.n_primary if offset == 0.0 else self.n_staggered
         return kernels.Family(count, *self._aux[offset])
 
+    def _fastest_cell(self) -> str:
+        """``the fastest cell i (x=...): h=..., hu=... (wave speed ...)`` of the primary state
+        in the kernel's first buffer (the start of the pair that failed)."""
+        n = self.n_primary
+        values = self._w0[:, GHOSTS : GHOSTS + n]
+        aux = self._aux[0.0][0][:, GHOSTS : GHOSTS + n]
+        with np.errstate(invalid="ignore", over="ignore"):
+            speeds = self.model.max_wave_speed(values, aux)
+        bad = ~np.isfinite(speeds) | ~np.all(np.isfinite(values), axis=0)
+        cell = int(np.argmax(bad)) if bad.any() else int(np.argmax(speeds))
+        x = self.grid.centres(0.0, self.periodic)[cell]
+        state = ", ".join(
+            f"{name}={float(values[v, cell]):.3g}" for v, name in enumerate(self.model.variables)
+        )
+        return f"the fastest cell {cell} (x={x:.6g}): {state} (wave speed {speeds[cell]:.3g})"
+
     def _raise_failure(
         self, status: int, family: int, cell: int, t: float, steps: int, dt: float
     ) -> None:
@@ -631,7 +647,8 @@ class NessyahuTadmor(Scheme):
         if status == k.STATUS_DT_FLOOR:
             raise SchemeBreakdownError(
                 f"time step {dt:.3g} fell below the floor {DT_FLOOR_RELATIVE:g}*dx at t={t:.6g}, "
-                f"step {steps}"
+                f"step {steps}; {self._fastest_cell()}; likely remedies: a smaller cfl, "
+                "reconstructor = 'minmod'"
             )
         raise SchemeBreakdownError(
             f"could not meet the CFL condition (< 1/2) at t={t:.6g}, step {steps}"
