@@ -29,7 +29,7 @@ def unbound(*args):
 
 flux_point = jacobian_point = max_speed_point = source_point = admissible_point = unbound
 balanced_source_point = balanced_source_y_point = correct_point = resistance_point = unbound
-coefficients_point = unbound
+coefficients_point = coefficients_2d_point = corner_coefficients_point = unbound
 interface_coefficients_point = rest_coefficients_point = unbound
 slope_point = fill_left = fill_right = unbound
 flux_y_point = jacobian_y_point = max_speed_y_point = unbound

@@ -498,6 +498,8 @@ def film_window_bed(w, bed, row, c, step, film, params, bounds):
     :meth:`JiangTadmorReference._bound_velocities`)."""
     q, aux, source = local_vector(NV), local_vector(NAUX), local_vector(NV)
     speeds, pushes = local_vector(2), local_vector(2)
+    flat = local_vector(2)
+    flat[0], flat[1] = 0.0, 0.0
     start_film_bounds(bounds)
     for r in range(row, row + 4):
         for i in range(c, c + 4):
@@ -516,7 +518,7 @@ def film_window_bed(w, bed, row, c, step, film, params, bounds):
             speeds[1] = _max_speed_y_point(q, aux, params)
             widen_film_bounds(
                 bounds, velocity_at(w, MOMENTUM, r, i), velocity_at(w, MOMENTUM_Y, r, i), speeds,
-                pushes,
+                pushes, flat,
             )  # fmt: skip
 
 
@@ -528,6 +530,8 @@ def bound_films_bed(w, out, k, step, params, bed):
     bounds = local_vector(5)
     speeds = local_vector(2)
     aux = local_vector(NAUX)
+    flat = local_vector(2)
+    flat[0], flat[1] = 0.0, 0.0
     for j in range(step.columns):
         depth = film_of(out, k, j, film)
         if depth > 0.0:
@@ -537,7 +541,7 @@ def bound_films_bed(w, out, k, step, params, bed):
             for a in range(NAUX):
                 aux[a] = bed.aux_new[a, NG + k, NG + j]
             new_speeds(out, k, j, aux, params, speeds)
-            clamp_film(out, k, j, depth, bounds, speeds)
+            clamp_film(out, k, j, depth, bounds, speeds, flat)
 
 
 @njit(cache=True, parallel=True, error_model="numpy")

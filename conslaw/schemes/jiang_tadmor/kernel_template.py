@@ -462,13 +462,13 @@ def correct_cell(out, row, c, q, aux, local, dt):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def widen_film_bounds(bounds, u, v, speeds, pushes):
+def widen_film_bounds(bounds, u, v, speeds, pushes, slopes):
     """Take a source cell of velocity ``(u, v)``, wave speeds ``speeds`` along x and y and
     pushes ``pushes`` (the velocity its source and resistance can change in one step, 0 for a
     film or a dry cell) into a film's ``bounds``: the smallest ``u - 2c - push`` and largest ``u
     + 2c + push`` along x (``c = max(speed - |u|, 0)``), the same along y, and the largest speed
-    ``|(u, v)|`` widened by the larger of the two directions' ``2c + push`` (docs/design.md,
-    "Films")."""
+    (:func:`metric_speed` with the surface gradient ``slopes``, zeros in the plane) widened by
+    the larger of the two directions' ``2c + push`` (docs/design.md, "Films")."""
     twice_x = 2.0 * max(speeds[0] - abs(u), 0.0)
     twice_y = 2.0 * max(speeds[1] - abs(v), 0.0)
     bounds[0] = min(bounds[0], u - twice_x - pushes[0])
@@ -476,7 +476,16 @@ def widen_film_bounds(bounds, u, v, speeds, pushes):
     bounds[2] = min(bounds[2], v - twice_y - pushes[1])
     bounds[3] = max(bounds[3], v + twice_y + pushes[1])
     widest = max(max(0.0, twice_x + pushes[0]), twice_y + pushes[1])
-    bounds[4] = max(bounds[4], math.sqrt(u * u + v * v) + widest)
+    bounds[4] = max(bounds[4], metric_speed(u, v, slopes) + widest)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def metric_speed(u, v, slopes):
+    """The speed of map velocity ``(u, v)`` in a surface of gradient ``slopes``, ``(u^2 + v^2 +
+    (b_x u + b_y v)^2)^(1/2)``; zero slopes give ``|(u, v)|`` bit for bit
+    (:func:`conslaw.schemes.jiang_tadmor.reference.metric_speed`)."""
+    along = slopes[0] * u + slopes[1] * v
+    return math.sqrt(u * u + v * v + along * along)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -497,6 +506,8 @@ def film_window(w, row, c, params, bounds):
     for a in range(NAUX):
         aux[a] = 0.0
     pushes[0], pushes[1] = 0.0, 0.0
+    flat = local_vector(2)
+    flat[0], flat[1] = 0.0, 0.0
     start_film_bounds(bounds)
     for r in range(row, row + 4):
         for i in range(c, c + 4):
@@ -508,7 +519,7 @@ def film_window(w, row, c, params, bounds):
             if MOMENTUM_Y >= 0:
                 v_y = velocity_at(w, MOMENTUM_Y, r, i)
                 speeds[1] = _max_speed_y_point(q, aux, params)
-            widen_film_bounds(bounds, u, v_y, speeds, pushes)
+            widen_film_bounds(bounds, u, v_y, speeds, pushes, flat)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -520,12 +531,13 @@ def film_celerity(speed, velocity):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def clamp_film(out, k, j, depth, bounds, speeds):
+def clamp_film(out, k, j, depth, bounds, speeds, slopes):
     """New cell ``(k, j)`` (of ``depth``, wave speeds ``speeds`` along x and y before the
     bound), a film: along each direction its Riemann invariants within ``bounds`` and its
     velocity between rest and them, then the momentum shortened along itself where its speed
-    plus ``2c`` is above the largest of the bounds by more than round-off (``SPEED_MARGIN``;
-    the reference's ``_bound_velocities``)."""
+    (:func:`metric_speed` with the surface gradient ``slopes`` at the cell) plus ``2c`` is above
+    the largest of the bounds by more than round-off (``SPEED_MARGIN``; the reference's
+    ``_bound_velocities``)."""
     celerity_x = film_celerity(speeds[0], out[MOMENTUM, NG + k, NG + j] / depth)
     celerity_y = 0.0
     if MOMENTUM_Y >= 0:
@@ -540,7 +552,7 @@ def clamp_film(out, k, j, depth, bounds, speeds):
         clamp_velocity(out, MOMENTUM_Y, k, j, depth, low, high)
         v = out[MOMENTUM_Y, NG + k, NG + j] / depth
     u = out[MOMENTUM, NG + k, NG + j] / depth
-    speed = math.sqrt(u * u + v * v)
+    speed = metric_speed(u, v, slopes)
     cap = max(bounds[4] - 2.0 * max(celerity_x, celerity_y), 0.0)
     if speed > cap * (1.0 + SPEED_MARGIN):
         scale = cap / speed
@@ -592,12 +604,14 @@ def bound_films(w, out, k, step, params):
     aux = local_vector(NAUX)
     for a in range(NAUX):
         aux[a] = 0.0
+    flat = local_vector(2)
+    flat[0], flat[1] = 0.0, 0.0
     for j in range(step.columns):
         depth = film_of(out, k, j, film)
         if depth > 0.0:
             film_window(w, step.first + k - 1, step.first + j - 1, params, bounds)
             new_speeds(out, k, j, aux, params, speeds)
-            clamp_film(out, k, j, depth, bounds, speeds)
+            clamp_film(out, k, j, depth, bounds, speeds, flat)
 
 
 @njit(cache=True, error_model="numpy")
