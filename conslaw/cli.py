@@ -250,7 +250,11 @@ def _print_solve_and_errors(scene: Any, result: Any, reconstructor: str, cells: 
 
 def _print_summary_2d(scene: Scene2D, result: Any) -> None:
     """What a finished 2D run prints: the solve, the errors against the exact solution, the
-    change of the conserved totals."""
+    change of the conserved totals; on terrain what the states hold and, for GeoTIFFs from a
+    terrain without a CRS, that they carry none
+    (:func:`conslaw.terrain.hazard_maps.terrain_run_notes`)."""
+    from conslaw.terrain.hazard_maps import terrain_run_notes
+
     cells = f"{scene.nx} x {scene.ny} cells"
     _print_solve_and_errors(scene, result, scene.reconstructor, cells)
     closed = set(scene.boundaries.values()) <= {"periodic", "wall"}
@@ -282,6 +286,8 @@ def _print_summary_2d(scene: Scene2D, result: Any) -> None:
             f"  largest change of any value from t=0: {change:.2e} (water at rest stays at "
             "rest; an error above is the sampling of the bed in the cell averages at t=0)"
         )
+    for note in terrain_run_notes(result, scene.output_formats):
+        print(f"  note: {note}")
 
 
 def _print_summary(scene: Scene, result: RunResult) -> None:

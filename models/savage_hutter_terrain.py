@@ -403,7 +403,7 @@ class SavageHutterTerrain(TwoEarthPressures, TwoDimensionalRows, DepthAveragedMo
         "x": "easting or map x (m)",
         "y": "northing or map y (m)",
         "t": "time (s)",
-        "h": "volume per map area H = thickness / cos(slope) (m)",
+        "h": "volume per map area H = slope-normal thickness / cos(slope) (m)",
         "hu": "H times the map x velocity (m^2/s)",
         "hv": "H times the map y velocity (m^2/s)",
         "u": "map x velocity (m/s)",

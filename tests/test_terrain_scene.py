@@ -29,9 +29,10 @@ X0, Y0 = 500000.0, 5200000.0
 def test_the_plane_to_flat_scene_writes_its_hazard_maps(tmp_path: Path) -> None:
     """``terrain-plane-to-flat`` at 25 m cells: the run keeps its volume to round-off and its
     depths >= 0; every hazard GeoTIFF opens with rasterio on the scene's cells (north-up, the
-    transform of the grid); the peak depth is at least the release and the deposit in every
-    cell; the travel angle of a mass with delta = 30 lies near 30 degrees (the energy line of a
-    point; docs/validation.md, "Savage–Hutter on terrain")."""
+    transform of the grid); the peak depth (its float32 values where the flow reached, no data
+    elsewhere: docs/output.md, "Hazard maps") is at least the release and the deposit in every
+    cell it holds; the travel angle of a mass with delta = 30 lies near 30 degrees (the energy
+    line of a point; docs/validation.md, "Savage–Hutter on terrain")."""
     out = tmp_path / "run"
     result = conslaw.run_2d(
         "terrain-plane-to-flat", out=out, n_cells=[40, 20], output_times=[20.0, 60.0]
@@ -50,15 +51,24 @@ def test_the_plane_to_flat_scene_writes_its_hazard_maps(tmp_path: Path) -> None:
             assert dataset.transform == Affine(
                 grid.dx, 0.0, grid.x.x_min, 0.0, -grid.dy, grid.y.x_max
             )
-            fields[stem] = dataset.read(1)[::-1]  # north-up in the file
+            fields[stem] = dataset.read(1, masked=True)[::-1]  # north-up in the file
         assert (out / f"{stem}.png").stat().st_size > 0
     assert result.peaks is not None
-    np.testing.assert_array_equal(fields["peak_depth"], result.peaks.depth)
+    reached = ~np.ma.getmaskarray(fields["peak_depth"])
+    np.testing.assert_array_equal(reached, result.peaks.depth >= REACHED_DEPTH)  # no layer
+    peak = fields["peak_depth"].compressed()
+    np.testing.assert_array_equal(peak, result.peaks.depth[reached].astype(np.float32))
     cos = result.model.aux_2d(*np.meshgrid(*grid.centres()))[2]
     for state in (result.initial, *result.states):
-        assert np.all(fields["peak_depth"] >= cos * state.q[0])
-    np.testing.assert_allclose(fields["peak_pressure"], 0.2 * fields["peak_speed"] ** 2)
-    assert np.all(fields["peak_speed"][fields["peak_depth"] < REACHED_DEPTH] == 0.0)
+        assert np.all(peak >= (cos * state.q[0])[reached].astype(np.float32))
+    np.testing.assert_allclose(
+        fields["peak_pressure"].compressed(),
+        0.2 * fields["peak_speed"].compressed() ** 2,
+        rtol=1e-6,
+    )
+    for stem in ("peak_speed", "peak_pressure"):
+        np.testing.assert_array_equal(~np.ma.getmaskarray(fields[stem]), reached)
+    assert np.all(result.peaks.speed[result.peaks.depth < REACHED_DEPTH] == 0.0)
 
 
 def tilted_plane_dem(tmp_path: Path, angle: float) -> Path:

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from conslaw.output.npz import exact_or_nan, npz_bytes
+from conslaw.output.npz import exact_arrays, npz_bytes, variable_meanings
 from conslaw.provenance import as_json
 
 if TYPE_CHECKING:
@@ -50,12 +50,14 @@ def states_bytes_2d(
     result: RunResult2D, provenance: dict[str, str], compressed: bool = True
 ) -> bytes:
     """``states.npz`` of the outputs so far. Keys: ``t`` (n_out,), ``x`` (nx,), ``y`` (ny,),
-    ``x_edges``, ``y_edges``, ``q`` (n_out, n_vars, ny, nx), ``q_exact`` (NaN where there is no
-    exact solution), ``variables`` and ``provenance`` (a JSON string)."""
+    ``x_edges``, ``y_edges``, ``q`` (n_out, n_vars, ny, nx), ``q_exact`` (only for a scene with
+    an exact solution; NaN at an output time without one), ``variables``,
+    ``variable_meanings`` (what each variable is: on terrain ``h`` is the volume per map area
+    ``H``, not the slope-normal thickness) and ``provenance`` (a JSON string)."""
     grid = result.grid
     x, y = grid.centres()
     q = np.array([state.q for state in result.states])
-    exact = exact_or_nan(result.exact, [state.q for state in result.states])
+    exact = exact_arrays(result.exact, [state.q for state in result.states])
     return npz_bytes(
         compressed,
         t=np.array([state.t for state in result.states]),
@@ -64,7 +66,8 @@ def states_bytes_2d(
         x_edges=grid.x.edges,
         y_edges=grid.y.edges,
         q=q,
-        q_exact=exact,
+        **exact,
         variables=np.array(result.model.variables),
+        variable_meanings=variable_meanings(result.model),
         provenance=np.array(as_json(provenance)),
     )

@@ -29,14 +29,50 @@ def npz_bytes(compressed: bool = True, **arrays: Any) -> bytes:
     return buffer.getvalue()
 
 
-def exact_or_nan(exact: Sequence[Any], values: Sequence[Any]) -> Any:
-    """The exact cell averages of every output as one array, NaN where there are none."""
-    return np.array(
-        [
-            e if e is not None else np.full_like(v, np.nan)
-            for e, v in zip(exact, values, strict=True)
-        ]
-    )
+def exact_arrays(exact: Sequence[Any], values: Sequence[Any]) -> dict[str, Any]:
+    """``{"q_exact": ...}``, the exact cell averages of every output as one array (NaN at an
+    output time without them), or ``{}`` when no output has them (a scene without an exact
+    solution: no array of NaN is written).
+
+    Parameters
+    ----------
+    exact : sequence of numpy.ndarray or None
+        The exact cell averages at each output time (``result.exact``), None where unknown.
+    values : sequence of numpy.ndarray
+        The cell averages at the same times (for the shape of a missing one).
+
+    Returns
+    -------
+    dict
+        The ``q_exact`` entry of ``states.npz``, if any.
+    """
+    if all(e is None for e in exact):
+        return {}
+    return {
+        "q_exact": np.array(
+            [
+                e if e is not None else np.full_like(v, np.nan)
+                for e, v in zip(exact, values, strict=True)
+            ]
+        )
+    }
+
+
+def variable_meanings(model: Any) -> Any:
+    """What each variable of ``model`` is, with its units where the model has them
+    (``Model.long_names``; the name where it has none), as the ``variable_meanings`` array of
+    ``states.npz``, in the order of ``variables``.
+
+    Parameters
+    ----------
+    model : Model
+
+    Returns
+    -------
+    numpy.ndarray of str
+        ``(n_vars,)``.
+    """
+    return np.array([model.long_names.get(name, name) for name in model.variables])
 
 
 def write_states(path: Path, result: RunResult, compressed: bool = True) -> Path:
@@ -51,7 +87,9 @@ def states_bytes(
     as during a run, where it is rewritten at every output time).
 
     Keys: ``t`` (n_out,), ``x`` (n,), ``edges`` (n + 1,), ``q`` (n_out, n_vars, n),
-    ``q_exact`` (exact cell averages, NaN where unknown), ``variables``; with front tracking also
+    ``q_exact`` (exact cell averages, NaN at an output time without them; no key at all for a
+    scene without an exact solution), ``variables``, ``variable_meanings`` (what each variable
+    is, :func:`variable_meanings`); with front tracking also
     ``margins`` (rows ``t, x_rear, u_rear, x_front, u_front`` after every step, NaN for a margin
     that does not exist); with the Lagrangian scheme also its own mesh at the output times:
     ``nodes`` and ``node_velocities`` (n_out, n_elements + 1) and ``element_depths``
@@ -61,15 +99,16 @@ def states_bytes(
     """
     if provenance is None:
         provenance = record(result.scene)
-    exact = exact_or_nan(result.exact, [state.q for state in result.states])
+    exact = exact_arrays(result.exact, [state.q for state in result.states])
     return npz_bytes(
         compressed,
         t=np.array([s.t for s in result.states]),
         x=result.grid.centres(),
         edges=result.grid.edges,
         q=np.array([s.q for s in result.states]),
-        q_exact=exact,
+        **exact,
         variables=np.array(result.model.variables),
+        variable_meanings=variable_meanings(result.model),
         provenance=np.array(as_json(provenance)),
         **({} if result.margins is None else {"margins": result.margins}),
         **node_arrays(result.states),

@@ -3,6 +3,10 @@ peak speed and peak pressure of every cell over the run (:mod:`conslaw.peak_fiel
 after every step pair), the deposit (the flow depth at the end), the run-out and travel angle;
 as GeoTIFFs with the terrain's georeference, PNG maps over a hillshade, and ``hazard.json``.
 
+The GeoTIFFs are float32 and hold a value only where the flow reached (the ``reached`` cells of
+:func:`hazard_maps`; the deposit where flow is left at the end), :data:`NODATA` elsewhere,
+declared as the band's no-data value.
+
 A run has hazard maps when its model gives a terrain on the run's cells
 (``Model.scene_dem``) and a flow depth (``Model.flow_depth_and_speed``).
 """
@@ -26,6 +30,11 @@ from conslaw.terrain.raster import geotiff_bytes
 
 Array = NDArray[np.float64]
 
+
+#: The no-data value of the hazard GeoTIFFs, where the flow did not reach: a finite sentinel
+#: (the form of declared no-data GIS tools honour most widely; NaN is not taken as no-data by
+#: every GIS), exact in float32, and below every value a map can hold (they are all >= 0).
+NODATA = -9999.0
 
 #: Speed (m/s) above which a cell of flow at least REACHED_DEPTH deep counts as moving at the
 #: end of a run (``moving_cells_at_end`` of hazard.json).
@@ -105,20 +114,36 @@ def run_out(
 
 @dataclass(frozen=True)
 class HazardField:
-    """One map: its file stem, its values on the run's cells, its name and units."""
+    """One map: its file stem, its values on the run's cells, its name and units, and the
+    cells where it has a value in its GeoTIFF (``valid``; :data:`NODATA` elsewhere)."""
 
     stem: str
     values: Array
     name: str
     units: str
+    valid: NDArray[np.bool_]
+
+    def geotiff_values(self) -> NDArray[np.float32]:
+        """The values as the GeoTIFF holds them: float32, :data:`NODATA` outside ``valid``.
+
+        Returns
+        -------
+        numpy.ndarray of float32
+            ``(ny, nx)``.
+        """
+        return np.where(self.valid, self.values, NODATA).astype(np.float32)
 
 
 @dataclass(frozen=True)
 class HazardMaps:
-    """The maps of a run, its terrain on the run's cells and its released cells."""
+    """The maps of a run, its terrain on the run's cells, its released cells and the cells the
+    flow reached (peak flow depth at least
+    :data:`~conslaw.peak_fields.REACHED_DEPTH` above any layer that covered the whole domain at
+    the start)."""
 
     dem: DigitalElevationModel
     released: NDArray[np.bool_]
+    reached: NDArray[np.bool_]
     fields: tuple[HazardField, ...]
     summary: dict[str, Any]
 
@@ -149,26 +174,34 @@ def hazard_maps(result: Any) -> HazardMaps | None:
     layer = float(np.min(initial_fields[0]))
     released = initial_fields[0] >= layer + REACHED_DEPTH
     reached = peaks.depth >= layer + REACHED_DEPTH
+    left = final_fields[0] >= layer + REACHED_DEPTH
     fields = [
-        HazardField("peak_depth", peaks.depth, "peak flow depth (normal to the slope)", "m"),
-        HazardField("peak_speed", peaks.speed, "peak speed", "m/s"),
+        HazardField(
+            "peak_depth", peaks.depth, "peak flow depth (normal to the slope)", "m", reached
+        ),
+        HazardField("peak_speed", peaks.speed, "peak speed", "m/s", reached),
     ]
     density = getattr(model.params, "density", None)
     if density is not None:
         fields.append(
             HazardField(
                 "peak_pressure", peaks.pressure(density), f"peak pressure rho |U|^2, rho = "
-                f"{density:g} kg/m^3", "kPa",
+                f"{density:g} kg/m^3", "kPa", reached,
             )
         )  # fmt: skip
-    fields.append(HazardField("deposit", final_fields[0], f"flow depth at t = {final.t:g} s", "m"))
+    fields.append(
+        HazardField("deposit", final_fields[0], f"flow depth at t = {final.t:g} s", "m", left)
+    )
     elevation = np.asarray(dem.elevation)
     reach = run_out(grid, elevation, released, reached, final_fields[0] - layer)
     area = grid.cell_area
-    moving = (final_fields[0] >= layer + REACHED_DEPTH) & (final_fields[1] > MOVING_SPEED)
+    moving = left & (final_fields[1] > MOVING_SPEED)
     summary: dict[str, Any] = {
         "t_end": float(final.t),
         "reached_depth_m": REACHED_DEPTH,
+        "reached_cells": int(np.count_nonzero(reached)),
+        "crs": dem.crs,
+        "geotiff_nodata": NODATA,
         "runout_length_m": None if reach is None else reach.length,
         "drop_m": None if reach is None else reach.drop,
         "travel_angle_deg": None if reach is None else reach.alpha,
@@ -180,12 +213,13 @@ def hazard_maps(result: Any) -> HazardMaps | None:
         "moving_speed_m_s": MOVING_SPEED,
         **{f"max_{field.stem}": float(np.max(field.values)) for field in fields},
     }
-    return HazardMaps(dem, released, tuple(fields), summary)
+    return HazardMaps(dem, released, reached, tuple(fields), summary)
 
 
 def hazard_files(maps: HazardMaps, folder: Path, geotiff: bool) -> dict[Path, bytes]:
     """The files of the maps: ``hazard.json`` and, with ``geotiff``, ``<stem>.tif`` for each
-    map (the terrain's transform and CRS).
+    map: float32, the terrain's transform and CRS, :data:`NODATA` (declared) outside the
+    map's ``valid`` cells (:meth:`HazardField.geotiff_values`).
 
     Parameters
     ----------
@@ -204,8 +238,8 @@ def hazard_files(maps: HazardMaps, folder: Path, geotiff: bool) -> dict[Path, by
         for field in maps.fields:
             path = folder / f"{field.stem}.tif"
             files[path] = geotiff_bytes(
-                field.values, (dem.x_min, dem.y_min), dem.cell_size, dem.crs,
-                name=field.name, units=field.units, where=f"GeoTIFF '{path}'",
+                field.geotiff_values(), (dem.x_min, dem.y_min), dem.cell_size, dem.crs,
+                name=field.name, units=field.units, nodata=NODATA, where=f"GeoTIFF '{path}'",
             )  # fmt: skip
     text = json.dumps(maps.summary, indent=2, sort_keys=True) + "\n"
     files[folder / "hazard.json"] = text.encode()
@@ -236,3 +270,37 @@ def hazard_output_files(result: Any, folder: Path, formats: tuple[str, ...]) -> 
     if "gif" in formats:
         files[folder / "flow_depth.gif"] = flow_depth_gif(result, maps.dem, maps.released)
     return files
+
+
+def terrain_run_notes(result: Any, formats: tuple[str, ...]) -> list[str]:
+    """What ``conslaw run`` tells of a finished run on terrain, one line each (none for a model
+    without a terrain): which quantity the states hold, and, when GeoTIFFs are written from a
+    terrain without a CRS (a formula, or a DEM file without one), that they carry none.
+
+    Parameters
+    ----------
+    result : RunResult2D
+    formats : tuple of str
+        The scene's ``output.formats``.
+
+    Returns
+    -------
+    list of str
+    """
+    model = result.model
+    dem = model.scene_dem(result.grid)
+    if dem is None:
+        return []
+    name = model.variables[0]
+    notes = [
+        f"the states' {name} (states.npz q[:, 0]) is the {model.long_names.get(name, name)}; "
+        "the hazard maps' flow depth is the thickness normal to the slope"
+    ]
+    if "geotiff" in formats and dem.crs is None:
+        dem_file = getattr(model.params, "dem_file", "")
+        source = f"DEM file '{dem_file}' has none" if dem_file else "a terrain formula has none"
+        notes.append(
+            f"the hazard GeoTIFFs carry no CRS ({source}): a GIS takes their coordinates as "
+            "metres in an unknown projection"
+        )
+    return notes
