@@ -72,6 +72,7 @@ from conslaw.schemes.jiang_tadmor.kernel_template import (
     row_velocities,
     store_fluxes,
     film_of,
+    flow_changes,
     new_speeds,
     start_film_bounds,
     velocity_at,
@@ -493,11 +494,11 @@ def correct_row_bed(out, k, step, params, bed):
 
 @njit(cache=True, error_model="numpy")
 def film_window_bed(w, bed, row, c, step, film, params, bounds):
-    """The flat kernel's ``film_window`` over a bed: a cell of the flow (at least ``film`` deep)
-    pushes by ``dt |s_m| / h`` along momentum ``m`` (``s`` its source;
+    """The flat kernel's ``film_window`` over a bed: the velocities of a cell of the flow (at
+    least ``film`` deep) widened by what a step of its source does to them (``flow_changes``;
     :meth:`JiangTadmorReference._bound_velocities`)."""
     q, aux, source = local_vector(NV), local_vector(NAUX), local_vector(NV)
-    speeds, pushes = local_vector(2), local_vector(2)
+    speeds, changes = local_vector(2), local_vector(3)
     flat = local_vector(2)
     flat[0], flat[1] = 0.0, 0.0
     start_film_bounds(bounds)
@@ -507,18 +508,19 @@ def film_window_bed(w, bed, row, c, step, film, params, bounds):
                 q[v] = w[v, r, i]
             for a in range(NAUX):
                 aux[a] = bed.aux[a, r, i]
-            _source_point(q, aux, params, source)
             depth = q[DEPTH]
-            flow = depth >= film and depth > 0.0
-            for n in range(2):
-                m = MOMENTUM if n == 0 else MOMENTUM_Y
-                change = (abs(source[m]) + 0.0) / depth if flow else 0.0
-                pushes[n] = step.dt * change
+            changes[0], changes[1], changes[2] = 0.0, 0.0, 0.0
+            if depth >= film and depth > 0.0:
+                _source_point(q, aux, params, source)
+                momentum_x, momentum_y = q[MOMENTUM], q[MOMENTUM_Y]
+                driven_x = momentum_x + step.dt * source[MOMENTUM]
+                driven_y = momentum_y + step.dt * source[MOMENTUM_Y]
+                flow_changes(momentum_x, momentum_y, driven_x, driven_y, depth, flat, changes)
             speeds[0] = _max_speed_point(q, aux, params)
             speeds[1] = _max_speed_y_point(q, aux, params)
             widen_film_bounds(
                 bounds, velocity_at(w, MOMENTUM, r, i), velocity_at(w, MOMENTUM_Y, r, i), speeds,
-                pushes, flat,
+                changes, flat,
             )  # fmt: skip
 
 

@@ -462,21 +462,33 @@ def correct_cell(out, row, c, q, aux, local, dt):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def widen_film_bounds(bounds, u, v, speeds, pushes, slopes):
+def widen_film_bounds(bounds, u, v, speeds, changes, slopes):
     """Take a source cell of velocity ``(u, v)``, wave speeds ``speeds`` along x and y and
-    pushes ``pushes`` (the velocity its source and resistance can change in one step, 0 for a
-    film or a dry cell) into a film's ``bounds``: the smallest ``u - 2c - push`` and largest ``u
-    + 2c + push`` along x (``c = max(speed - |u|, 0)``), the same along y, and the largest speed
-    (:func:`metric_speed` with the surface gradient ``slopes``, zeros in the plane) widened by
-    the larger of the two directions' ``2c + push`` (docs/design.md, "Films")."""
+    ``changes`` (what its source and resistance do to its velocities in one step and the rise
+    of its speed, :func:`flow_changes`; 0 for a film or a dry cell) into a film's ``bounds``:
+    the smallest ``u - 2c + min(change, 0)`` and largest ``u + 2c + max(change, 0)`` along x
+    (``c = max(speed - |u|, 0)``), the same along y, and the largest speed
+    (:func:`metric_speed` with the surface gradient ``slopes``, zeros in the plane) plus the
+    larger ``2c`` and the rise (docs/design.md, "Films")."""
     twice_x = 2.0 * max(speeds[0] - abs(u), 0.0)
     twice_y = 2.0 * max(speeds[1] - abs(v), 0.0)
-    bounds[0] = min(bounds[0], u - twice_x - pushes[0])
-    bounds[1] = max(bounds[1], u + twice_x + pushes[0])
-    bounds[2] = min(bounds[2], v - twice_y - pushes[1])
-    bounds[3] = max(bounds[3], v + twice_y + pushes[1])
-    widest = max(max(0.0, twice_x + pushes[0]), twice_y + pushes[1])
-    bounds[4] = max(bounds[4], metric_speed(u, v, slopes) + widest)
+    bounds[0] = min(bounds[0], u - twice_x + min(changes[0], 0.0))
+    bounds[1] = max(bounds[1], u + twice_x + max(changes[0], 0.0))
+    bounds[2] = min(bounds[2], v - twice_y + min(changes[1], 0.0))
+    bounds[3] = max(bounds[3], v + twice_y + max(changes[1], 0.0))
+    bounds[4] = max(bounds[4], metric_speed(u, v, slopes) + (max(twice_x, twice_y) + changes[2]))
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def flow_changes(momentum_x, momentum_y, driven_x, driven_y, depth, slopes, changes):
+    """Into ``changes``: the change of each velocity of a cell of the flow of ``depth`` from its
+    momentum before to ``driven`` after an explicit step of its source and resistance, and the
+    rise of its speed in the metric of ``slopes`` (0 if it falls), as the reference's
+    ``_flow_changes``."""
+    changes[0] = (driven_x - momentum_x) / depth
+    changes[1] = (driven_y - momentum_y) / depth
+    rise = metric_speed(driven_x, driven_y, slopes) - metric_speed(momentum_x, momentum_y, slopes)
+    changes[2] = max(rise, 0.0) / depth
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -500,12 +512,12 @@ def start_film_bounds(bounds):
 @njit(cache=True, error_model="numpy")
 def film_window(w, row, c, params, bounds):
     """The ``bounds`` (:func:`widen_film_bounds`) of a film over the 4 x 4 padded cells from
-    ``(row, c)``, for a model without a source (no cell pushes)."""
+    ``(row, c)``, for a model without a source or a resistance (nothing changes a velocity)."""
     q, aux = local_vector(NV), local_vector(NAUX)
-    speeds, pushes = local_vector(2), local_vector(2)
+    speeds, changes = local_vector(2), local_vector(3)
     for a in range(NAUX):
         aux[a] = 0.0
-    pushes[0], pushes[1] = 0.0, 0.0
+    changes[0], changes[1], changes[2] = 0.0, 0.0, 0.0
     flat = local_vector(2)
     flat[0], flat[1] = 0.0, 0.0
     start_film_bounds(bounds)
@@ -519,7 +531,7 @@ def film_window(w, row, c, params, bounds):
             if MOMENTUM_Y >= 0:
                 v_y = velocity_at(w, MOMENTUM_Y, r, i)
                 speeds[1] = _max_speed_y_point(q, aux, params)
-            widen_film_bounds(bounds, u, v_y, speeds, pushes, flat)
+            widen_film_bounds(bounds, u, v_y, speeds, changes, flat)
 
 
 @njit(cache=True, error_model="numpy", inline="always")

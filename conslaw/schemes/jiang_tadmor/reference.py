@@ -548,6 +548,46 @@ class JiangTadmorReference:
         dt_y = self.cfl * self.grid.dy / speed_y if speed_y > 0.0 else np.inf
         return min(dt_x, dt_y)
 
+    def source_step_limit(self, q: Array, staggered: bool = False) -> float:
+        """The largest step with which the source, from rest, builds up a velocity that meets
+        the Courant condition in each direction: ``min(sqrt(cfl dx / (2 a_x)), sqrt(cfl dy / (2
+        a_y)))``, ``a_x = max |s_x| / h`` and ``a_y = max |s_y| / h`` over the wet cells of ``q``
+        (the 1D ``NessyahuTadmor.source_step_limit`` along each direction: the wave speed of a
+        thin layer on a slope, ``(g h)^(1/2) -> 0``, does not see the velocity gravity gives it);
+        inf for a model without a source, a depth or momenta.
+
+        Parameters
+        ----------
+        q : numpy.ndarray
+            Values of the primary family, or the staggered one (``staggered``).
+        staggered : bool
+
+        Returns
+        -------
+        float
+        """
+        model = self.model
+        depth = model.depth_index
+        if depth is None or not self.uses["source"]:
+            return np.inf
+        h = q[depth]
+        wet = h > 0.0
+        if not wet.any():
+            return np.inf
+        aux = self.family_aux(staggered)[:, wet] if model.n_aux else None
+        source = model.source(q[:, wet], aux)
+        limit = np.inf
+        for m, spacing in (
+            (model.momentum_index, self.grid.dx),
+            (model.momentum_y_index, self.grid.dy),
+        ):
+            if m is None:
+                continue
+            largest = float(np.max(np.abs(source[m]) / h[wet]))
+            if largest > 0.0:
+                limit = min(limit, float(np.sqrt(self.cfl * spacing / (2.0 * largest))))
+        return limit
+
     def _still_cells(self, w: Array) -> Array:
         """Whether each padded cell is still: every velocity below ``STILL`` times the cell's
         wave speed along it (round-off of a lake at rest is far below; any flow far above)."""
@@ -1020,9 +1060,10 @@ class JiangTadmorReference:
         shallower than ``film`` keeps, along each momentum's direction, its Riemann invariants
         ``u -+ 2c`` within the smallest ``u - 2c`` and the largest ``u + 2c`` of the 4 x 4 cells
         its update reads (``c`` the wave speed less ``|u|`` along that direction), those of the
-        flow (at least ``film`` deep) widened by ``dt a``, ``a = (|s_m| + R) / h``, and its
-        velocity between rest and that range (the 1D ``NessyahuTadmor._bound_velocities`` per
-        momentum); then its speed is bounded likewise (:meth:`_cap_film_speeds`)."""
+        flow (at least ``film`` deep) widened by what their forces do in one step
+        (:meth:`_flow_changes`), and its velocity between rest and that range (the 1D
+        ``NessyahuTadmor._bound_velocities`` per momentum); then its speed is bounded likewise
+        (:meth:`_cap_film_speeds`)."""
         model = self.model
         d = model.depth_index
         assert d is not None
@@ -1041,9 +1082,7 @@ class JiangTadmorReference:
         new_aux = _columns(self.family_aux(not staggered))
         h = block[d]
         wet = (h >= model.dry_depth()) & (h > 0.0)
-        flow = (h >= film) & (h > 0.0)
-        rate = model.source(flat, flat_aux).reshape(block.shape)
-        resistance = model.resistance(flat, flat_aux).reshape(h.shape)
+        changes, gain = self._flow_changes(block, aux, (h >= film) & (h > 0.0), dt)
         safe_new = np.where(films, h_new, 1.0)
         momenta = [
             (m, direction)
@@ -1056,26 +1095,54 @@ class JiangTadmorReference:
                 speed = model.max_wave_speed(_columns(new), new_aux, direction=direction)
                 celerity = speed.reshape(h_new.shape) - np.abs(new[m] / safe_new)
             celerities.append(np.where(films & (celerity > 0.0), celerity, 0.0))
-        spreads, velocities = [], []
-        for (m, direction), celerity_new in zip(momenta, celerities, strict=True):
+        twices, velocities = [], []
+        for (m, direction), celerity_new, change in zip(momenta, celerities, changes, strict=True):
             u = np.where(wet, block[m] / np.where(wet, h, 1.0), 0.0)
             speed = model.max_wave_speed(flat, flat_aux, direction=direction).reshape(h.shape)
-            change = np.where(flow, (np.abs(rate[m]) + resistance) / np.where(flow, h, 1.0), 0.0)
-            twice, push = 2.0 * np.maximum(speed - np.abs(u), 0.0), dt * change
-            lo = np.minimum(_window_extreme(u - twice - push, False) + 2.0 * celerity_new, 0.0)
-            hi = np.maximum(_window_extreme(u + twice + push, True) - 2.0 * celerity_new, 0.0)
+            twice = 2.0 * np.maximum(speed - np.abs(u), 0.0)
+            low = _window_extreme(u - twice + np.minimum(change, 0.0), False)
+            high = _window_extreme(u + twice + np.maximum(change, 0.0), True)
+            lo = np.minimum(low + 2.0 * celerity_new, 0.0)
+            hi = np.maximum(high - 2.0 * celerity_new, 0.0)
             u_new = np.where(films, new[m] / safe_new, 0.0)
             new[m] = np.where(
                 films & (u_new < lo),
                 lo * h_new,
                 np.where(films & (u_new > hi), hi * h_new, new[m]),
             )
-            spreads.append(twice + push)
+            twices.append(twice)
             velocities.append(u)
-        widest = np.maximum(np.maximum.reduce(spreads), 0.0)
+        widest = np.maximum.reduce(twices) + gain
         reach = metric_speed(*_pair_of(velocities), self._tangent_slopes(aux)) + widest
         cap = np.maximum(_window_extreme(reach, True) - 2.0 * np.maximum.reduce(celerities), 0.0)
         self._cap_film_speeds(new, staggered, films, cap)
+
+    def _flow_changes(
+        self, block: Array, aux: Array, flow: NDArray[np.bool_], dt: float
+    ) -> tuple[list[Array], Array]:
+        """What an explicit step of their source and resistance does to the cells ``block`` (with
+        coefficients ``aux``) that are ``flow``: the change of each velocity (an array per
+        momentum) and the rise of the speed in the model's metric (:func:`metric_speed`), 0
+        elsewhere; the resistance by the stopping rule (:func:`resist`), so friction slows and
+        never speeds up."""
+        model = self.model
+        assert model.depth_index is not None
+        rows = [m for m in (model.momentum_index, model.momentum_y_index) if m is not None]
+        flat, flat_aux = _columns(block), _columns(aux)
+        source = model.source(flat, flat_aux).reshape(block.shape)
+        momenta = [block[m] for m in rows]
+        driven = [momentum + dt * source[m] for m, momentum in zip(rows, momenta, strict=True)]
+        slopes = self._tangent_slopes(aux)
+        if self.uses["resistance"]:
+            impulse = dt * model.resistance(flat, flat_aux).reshape(block.shape[1:])
+            resist(driven[0], driven[1], impulse, slopes)
+        safe = np.where(flow, block[model.depth_index], 1.0)
+        changes = [
+            np.where(flow, (after - before) / safe, 0.0)
+            for after, before in zip(driven, momenta, strict=True)
+        ]
+        rise = metric_speed(*_pair_of(driven), slopes) - metric_speed(*_pair_of(momenta), slopes)
+        return changes, np.where(flow, np.maximum(rise, 0.0) / safe, 0.0)
 
     def _cap_film_speeds(
         self, new: Array, staggered: bool, films: NDArray[np.bool_], cap: Array
@@ -1154,7 +1221,7 @@ class JiangTadmorReference:
         steps = 0
         while t < t_end:
             remaining = t_end - t
-            dt = self.stable_dt(q)
+            dt = min(self.stable_dt(q), self.source_step_limit(q))
             last = 2.0 * dt >= remaining
             if last:
                 dt = 0.5 * remaining

@@ -543,7 +543,9 @@ class JiangTadmor:
         never with a step below ``DT_FLOOR dx`` but to land on ``t_end``: either stops the run
         (:meth:`_breakdown`), so no run is caught in ever smaller steps."""
         remaining = t_end - t
-        dt = self.stable_dt(self.statistics[0])
+        dt = min(
+            self.stable_dt(self.statistics[0]), self.reference.source_step_limit(self._values(0))
+        )
         last = 2.0 * dt >= remaining
         if last:
             dt = 0.5 * remaining

@@ -417,8 +417,10 @@ def resist(momentum, impulse):
 @njit(cache=True, error_model="numpy", inline="always")
 def velocity_range(src, i, dt, aux_centre, params, state, coefficients, out, film):
     """The Riemann invariants ``(u - 2c, u + 2c)`` of padded cell i (``c`` the wave speed less
-    ``|u|``), widened, if the cell is flow (at least ``film`` deep), by the velocity ``dt a`` its
-    source and resistance can add or remove in one step (``a = (|s_m| + R) / h``).
+    ``|u|``), widened, if the cell is flow (at least ``film`` deep), by the change of its
+    velocity its source and resistance make in one step, the lower end by a decrease and the
+    upper by an increase (an explicit step of both with the stopping rule: friction slows, it
+    never speeds up).
 
     In the exact solution the Riemann invariants ``u -+ 2c`` obey a maximum principle, so a new
     film whose invariants leave the range of those of the cells its update reads is an artefact.
@@ -438,12 +440,15 @@ def velocity_range(src, i, dt, aux_centre, params, state, coefficients, out, fil
     h = src[DEPTH, c]
     change = 0.0
     if h >= film and h > 0.0:
+        momentum = src[MOMENTUM, c]
+        driven = momentum
         if HAS_SOURCE:
             _source_point(state, coefficients, params, out)
-            change += abs(out[MOMENTUM]) / h
+            driven = momentum + dt * out[MOMENTUM]
         if HAS_RESISTANCE:
-            change += _resistance_point(state, coefficients, params) / h
-    return u - 2.0 * celerity - dt * change, u + 2.0 * celerity + dt * change
+            driven = resist(driven, dt * _resistance_point(state, coefficients, params))
+        change = (driven - momentum) / h
+    return u - 2.0 * celerity + min(change, 0.0), u + 2.0 * celerity + max(change, 0.0)
 
 
 @njit(cache=True, error_model="numpy", inline="always")

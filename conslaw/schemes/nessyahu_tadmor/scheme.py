@@ -448,7 +448,8 @@ class NessyahuTadmor(Scheme):
         new wet cell shallower than ``film`` (``FILM`` times the deepest source cell) keeps its
         Riemann invariants ``u -+ 2c`` within the smallest ``u - 2c`` and the largest ``u + 2c``
         of the four cells its update reads, those of the flow (at least ``film`` deep) widened by
-        ``dt a``, ``a = (|s_m| + R) / h``, and its velocity between rest and that range
+        the change of their velocity an explicit step of their source and resistance makes (the
+        kernel's ``velocity_range``), and its velocity between rest and that range
         (docs/design.md, "Films"). ``centres``: the coefficients at the padded source cells'
         centres and at the new cells'."""
         model = self.model
@@ -462,10 +463,11 @@ class NessyahuTadmor(Scheme):
         wet = (h >= model.dry_depth()) & (h > 0.0)
         u = np.where(wet, q[m] / np.where(wet, h, 1.0), 0.0)
         c = np.maximum(model.max_wave_speed(q, aux) - np.abs(u), 0.0)
-        rate = np.abs(model.source(q, aux)[m]) + model.resistance(q, aux)
+        driven = _resist(q[m] + dt * model.source(q, aux)[m], dt * model.resistance(q, aux))
         flow = (h >= film) & (h > 0.0)
-        change = np.where(flow, rate / np.where(flow, h, 1.0), 0.0)
-        low, high = u - 2.0 * c - dt * change, u + 2.0 * c + dt * change
+        change = np.where(flow, (driven - q[m]) / np.where(flow, h, 1.0), 0.0)
+        low = u - 2.0 * c + np.minimum(change, 0.0)
+        high = u + 2.0 * c + np.maximum(change, 0.0)
         lo = np.minimum(np.minimum(low[:-3], low[1:-2]), np.minimum(low[2:-1], low[3:]))
         hi = np.maximum(np.maximum(high[:-3], high[1:-2]), np.maximum(high[2:-1], high[3:]))
         h_new = new[d]
