@@ -21,6 +21,10 @@ from conslaw.schemes.nessyahu_tadmor.scheme import NessyahuTadmor
 settings.register_profile("ci", derandomize=True)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "default"))
 
+# The interval of the progress lines (docs/cli.md, "Progress") is the tests' to set: one set in
+# the developer's shell would add lines to what the tests read (or, not a number, fail them).
+os.environ.pop("CONSLAW_PROGRESS_SECONDS", None)
+
 
 def make_scheme(
     model_name: str = "burgers",
