@@ -106,9 +106,9 @@ def numba_cache_folder(module_file: Path) -> Path:
     cache locators choose it: under ``NUMBA_CACHE_DIR`` (``numba.config.CACHE_DIR``) in a
     folder named for the module's folder when that is set, else ``__pycache__`` beside the
     module (the kernel folder is writable: :func:`cache_dir`)."""
-    if numba.config.CACHE_DIR:
-        subpath = _CacheLocator.get_suitable_cache_subpath(str(module_file))
-        return Path(numba.config.CACHE_DIR) / subpath
+    numba_folder = getattr(numba.config, "CACHE_DIR", "")  # set at run time: no stub knows it
+    if numba_folder:
+        return Path(numba_folder) / _CacheLocator.get_suitable_cache_subpath(str(module_file))
     return module_file.parent / "__pycache__"
 
 
