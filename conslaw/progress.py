@@ -176,6 +176,11 @@ class RunProgress:
         self.dt = math.nan
         self.drawn = 0  # characters of the bar on the terminal (0: none)
 
+    @property
+    def writes_lines(self) -> bool:
+        """Whether it writes lines (shown, not on a terminal): only they count moving cells."""
+        return self.show and not self.terminal
+
     def __call__(self, t: float, steps: int) -> None:
         if self.check is not None:
             self.check()

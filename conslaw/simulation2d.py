@@ -171,12 +171,12 @@ def _observer(
     model: Model, peaks: PeakFields | None, progress: Progress2D | None
 ) -> Callable[[Array], None] | None:
     """What the scheme calls with the values after every step pair (None: nothing): the peak
-    fields' update, and for a :class:`~conslaw.progress.RunProgress` showing progress of a model
+    fields' update, and for a :class:`~conslaw.progress.RunProgress` writing lines about a model
     with a momentum, a reference to the values from which its line counts the moving cells
     (cells with a nonzero momentum; counted only when a line is written, from the values of
     the pair just reported)."""
     rows = [v for v in (model.momentum_index, model.momentum_y_index) if v is not None]
-    if not (isinstance(progress, RunProgress) and progress.show and rows):
+    if not (isinstance(progress, RunProgress) and progress.writes_lines and rows):
         return None if peaks is None else peaks.update
     latest: list[Array | None] = [None]
 
