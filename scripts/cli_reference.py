@@ -46,11 +46,12 @@ their members (`conslaw: study: 5 of 10 members done, 1 did not finish, 12.0 s e
 the study's last member always. The environment variable `CONSLAW_PROGRESS_SECONDS` sets the
 10 s (a number >= 0; 0 writes a line at every report, as the tests do).
 
-`--quiet` (`-q`, before or after the command) leaves the progress out: no bar, no progress lines,
-no notice of a kernel compile. Errors (stderr) and the summary at the end (what ran, the errors
-against an exact solution, the files written) are printed as without it, so a script can still
-read them; `conslaw warm --quiet` prints one line at the end instead of a line per kernel
-family.
+`--quiet` (`-q`, before or after the command) leaves the progress out: no bar, no progress
+lines, no notice of a kernel compile, and in a study or a calibration none of its `conslaw: ...`
+lines (resuming, stopping, each stage's result). Errors (stderr) and the summary at the end (what
+ran, the errors against an exact solution, the files written) are printed as without it, so a
+script can still read them; `conslaw warm --quiet` prints one line at the end instead of a line
+per kernel family.
 """
 
 
