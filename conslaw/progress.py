@@ -125,7 +125,7 @@ class RunProgress:
     :func:`conslaw.simulation.simulate` and :func:`conslaw.simulation2d.simulate_2d`.
 
     On a terminal, a bar redrawn at most every :data:`BAR_SECONDS`; otherwise a line every
-    :func:`line_seconds`, as ``conslaw: t=12.5 of 150 (8.3%), 4120 steps, dt=3.05e-03,
+    :func:`line_seconds`, as ``conslaw: t=12.5 of 150 (8.3%), 4120 steps, dt=0.00305,
     1234 moving cells, 10.0 s elapsed, about 1 min 50 s left``. ``dt`` is the mean step size
     since the previous report (one step pair, or one call of a compiled kernel); the moving
     cells are counted when a line is written, by :attr:`moving` if the run set it (2D runs of
