@@ -24,6 +24,11 @@ if TYPE_CHECKING:
     from conslaw.simulation import RunResult
 
 EXIT_INPUT = 2
+#: ``--quiet`` (docs/cli.md, "Progress"): before the command or after it.
+QUIET_HELP = (
+    "no progress output: no bar, no progress lines, no notice of a compile (errors and the "
+    "summary at the end are still printed)"
+)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -106,28 +111,12 @@ def _notice(message: str) -> None:
     print(f"conslaw: {message}", flush=True)
 
 
-class _ProgressBar:
-    """A one-line progress bar on stdout, only when stdout is a terminal."""
-
-    def __init__(self, t_end: float) -> None:
-        self.t_end = t_end
-        self.enabled = sys.stdout.isatty()
-        self.last = 0.0
-
-    def __call__(self, t: float, steps: int) -> None:
-        now = time.monotonic()
-        if not self.enabled or (now - self.last < 0.1 and t < self.t_end):
-            return
-        self.last = now
-        fraction = min(t / self.t_end, 1.0) if self.t_end > 0 else 1.0
-        filled = int(30 * fraction)
-        sys.stdout.write(f"\r[{'#' * filled}{'.' * (30 - filled)}] t={t:.4g} steps={steps}")
-        sys.stdout.flush()
-
-    def close(self) -> None:
-        if self.enabled:
-            sys.stdout.write("\n")
-            self.enabled = False
+def _reporter(quiet: bool) -> Callable[[str], None]:
+    """Where a study's or a calibration's progress lines go: stdout, flushed at once (a log
+    file shows each as it comes), or nowhere with ``--quiet``."""
+    if quiet:
+        return lambda line: None
+    return lambda line: print(f"conslaw: {line}", flush=True)
 
 
 def _command_run(args: argparse.Namespace) -> int:
@@ -151,7 +140,7 @@ def _command_run(args: argparse.Namespace) -> int:
         writer_2d = RunWriter2D(out, loaded, write_figures_2d, hazard_output_files)
         try:
             writer_2d.claim()
-            return _run_scene(loaded, out, writer_2d, simulate_2d, _print_summary_2d)
+            return _run_scene(loaded, out, writer_2d, (simulate_2d, _print_summary_2d), args.quiet)
         finally:
             writer_2d.release()
     from conslaw.simulation import simulate
@@ -162,7 +151,7 @@ def _command_run(args: argparse.Namespace) -> int:
     writer = RunWriter(out, scene, functools.partial(write_figures, worker=worker))
     try:
         writer.claim()
-        return _run_scene(scene, out, writer, simulate, _print_summary)
+        return _run_scene(scene, out, writer, (simulate, _print_summary), args.quiet)
     finally:
         writer.release()
         if worker is not None:
@@ -173,21 +162,22 @@ def _run_scene(
     scene: Any,
     out: Path,
     writer: RunWriter,
-    simulate: Callable[..., Any],
-    summary: Callable[[Any, Any], None],
+    how: tuple[Callable[..., Any], Callable[[Any, Any], None]],
+    quiet: bool,
 ) -> int:
     """Run ``scene`` by ``simulate`` (:func:`conslaw.simulation.simulate` or
     :func:`conslaw.simulation2d.simulate_2d`) writing through ``writer``, then print
-    ``summary(scene, result)``; the exit code (see :func:`_command_run`)."""
+    ``summary(scene, result)`` (``how = (simulate, summary)``); the exit code (see
+    :func:`_command_run`). The progress (a bar on a terminal, else a line now and then;
+    :class:`conslaw.progress.RunProgress`) and the notice of a compile are left out when
+    ``quiet``; the summary is not."""
     from conslaw import signals
     from conslaw.errors import RunInterrupted
+    from conslaw.progress import RunProgress
 
-    bar = _ProgressBar(scene.t_end)
+    simulate, summary = how
     latch = signals.SignalLatch()
-
-    def progress(t: float, steps: int) -> None:
-        latch.check()
-        bar(t, steps)
+    bar = RunProgress(scene.t_end, show=not quiet, check=latch.check)
 
     def on_output(result: Any) -> None:
         writer(result)
@@ -195,7 +185,8 @@ def _run_scene(
 
     try:
         with signals.handled(latch):
-            result = simulate(scene, progress=progress, on_output=on_output, notice=_notice)
+            notice = None if quiet else _notice
+            result = simulate(scene, progress=bar, on_output=on_output, notice=notice)
     except RunInterrupted as interrupted:
         bar.close()
         if writer.last_time != interrupted.last_output:  # the signal came as it finished one
@@ -420,7 +411,16 @@ def _command_warm(args: argparse.Namespace) -> int:
 
     if args.jobs is not None and args.jobs < 1:
         raise ConfigError(f"--jobs: expected an integer >= 1, got {args.jobs}")
-    warm(args.scenes or None, args.jobs, report=lambda line: print(line, flush=True))
+    if not args.quiet:
+        warm(args.scenes or None, args.jobs, report=lambda line: print(line, flush=True))
+        return 0
+    # --quiet: not a line per kernel family as it is compiled, one line at the end
+    compiled = warm(args.scenes or None, args.jobs, report=lambda line: None)
+    print(
+        f"compiled {compiled} kernel families"
+        if compiled
+        else "every kernel these scenes need is compiled already"
+    )
     return 0
 
 
@@ -474,7 +474,7 @@ def _command_ensemble(args: argparse.Namespace) -> int:
         study = run_study(
             args.scene, args.vary, args.samples, out, design=args.design, seed=args.seed,
             settings=_overrides(args.set), options=options,
-            report=lambda line: print(f"conslaw: {line}", flush=True),
+            report=_reporter(args.quiet),
         )  # fmt: skip
     except StudyInterrupted as interrupted:
         sys.stderr.write(f"conslaw: {interrupted}\n")
@@ -518,6 +518,13 @@ def _command_ensemble(args: argparse.Namespace) -> int:
     return 0
 
 
+def _add_quiet(parser: argparse.ArgumentParser) -> None:
+    """``--quiet`` after a command (before it, it is the main parser's; given in neither place
+    it is False)."""
+    parser.add_argument("-q", "--quiet", action="store_true", default=argparse.SUPPRESS,
+                        help=QUIET_HELP)  # fmt: skip
+
+
 def _add_engine_options(parser: argparse.ArgumentParser) -> None:
     """Where the members of a study or calibration run: ``--scheduler``, ``--workers``."""
     parser.add_argument("--scheduler", help="a Dask scheduler address, e.g. tcp://host:8786")
@@ -552,6 +559,7 @@ def _add_ensemble(commands: Any) -> None:
     _add_engine_options(study)
     study.add_argument("--depth-threshold", type=float, help="covered depth, 1D figures")
     study.add_argument("--no-plot", action="store_true", help="no figures")
+    _add_quiet(study)
 
 
 def _command_calibrate(args: argparse.Namespace) -> int:
@@ -565,7 +573,7 @@ def _command_calibrate(args: argparse.Namespace) -> int:
     result = calibrate(
         args.scene, args.observed, args.fit, settings=_overrides(args.set),
         tolerance=args.tolerance, seed=args.seed, out=out, options=options,
-        report=lambda line: print(f"conslaw: {line}", flush=True),
+        report=_reporter(args.quiet),
     )  # fmt: skip
     for key in result.keys:
         error = result.standard_error[key.key]
@@ -619,6 +627,7 @@ def _add_calibrate(commands: Any) -> None:
     fit.add_argument("--out", help="output folder (default conslaw-output/calibrate-SCENE)")
     _add_engine_options(fit)
     fit.add_argument("--no-plot", action="store_true", help="no calibration.png")
+    _add_quiet(fit)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -627,6 +636,7 @@ def build_parser() -> argparse.ArgumentParser:
     from conslaw import __version__
 
     parser.add_argument("--version", action="version", version=f"conslaw {__version__}")
+    parser.add_argument("-q", "--quiet", action="store_true", help=QUIET_HELP)
     commands = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     commands.add_parser("list", help="print every registered name with a one-line description")
     for name, text in (("run", "run a scene"), ("show", "print a scene with defaults filled in")):
@@ -642,6 +652,7 @@ def build_parser() -> argparse.ArgumentParser:
         if name == "run":
             sub.add_argument("--out", help="output folder (default conslaw-output/SCENE)")
             sub.add_argument("--no-plot", action="store_true", help="do not draw the figures (PNG)")
+            _add_quiet(sub)
     study = commands.add_parser(
         "convergence", help="errors, observed orders and run times over a list of N"
     )
@@ -673,6 +684,10 @@ def build_parser() -> argparse.ArgumentParser:
     )
     warm.add_argument("scenes", nargs="*", help="scene names or .toml files (default: built-in)")
     warm.add_argument("--jobs", type=int, help="processes at once (default: one per core)")
+    warm.add_argument(
+        "-q", "--quiet", action="store_true", default=argparse.SUPPRESS,
+        help="one line at the end instead of a line per kernel family as it is compiled",
+    )  # fmt: skip
     versus = commands.add_parser(
         "compare", help="one scene with several schemes: one figure, a table of errors and times"
     )
@@ -711,6 +726,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             # not for the command line: every state is checked (finite, admissible) and a
             # failure is one line. From Python they show as usual.
             warnings.filterwarnings("ignore", category=RuntimeWarning, module=r"(numpy|conslaw)")
+            if args.command in ("run", "ensemble", "calibrate") and not args.quiet:
+                from conslaw.progress import line_seconds
+
+                line_seconds()  # a bad CONSLAW_PROGRESS_SECONDS before anything is made
             return handlers[args.command](args)
     except ConslawError as error:
         sys.stderr.write(f"conslaw: error: {error}\n")

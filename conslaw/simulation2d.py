@@ -21,6 +21,7 @@ from conslaw.grid2d import Grid2D
 from conslaw.memory import available_bytes, run_bytes
 from conslaw.model import Model
 from conslaw.peak_fields import PeakFields
+from conslaw.progress import RunProgress
 from conslaw.result2d import RunResult2D, State2D
 from conslaw.scene2d import Scene2D
 
@@ -120,7 +121,7 @@ def simulate_2d(
     exact, note = exact_solution_2d(scene, model, grid)
     result = RunResult2D(scene, model, grid, State2D(0.0, q), exact_solution=exact, exact_note=note)
     result.peaks = PeakFields.start(model, grid, q)
-    observe = None if result.peaks is None else result.peaks.update
+    observe = _observer(model, result.peaks, progress)
     reached = [0.0, 0]
     last_output: float | None = None
 
@@ -164,6 +165,34 @@ def simulate_2d(
         number = getattr(interrupt, "signal_number", signal.SIGINT)
         raise RunInterrupted(reached[0], int(reached[1]), last_output, number) from None
     return result
+
+
+def _observer(
+    model: Model, peaks: PeakFields | None, progress: Progress2D | None
+) -> Callable[[Array], None] | None:
+    """What the scheme calls with the values after every step pair (None: nothing): the peak
+    fields' update, and for a :class:`~conslaw.progress.RunProgress` writing lines about a model
+    with a momentum, a reference to the values from which its line counts the moving cells
+    (cells with a nonzero momentum; counted only when a line is written, from the values of
+    the pair just reported)."""
+    rows = [v for v in (model.momentum_index, model.momentum_y_index) if v is not None]
+    if not (isinstance(progress, RunProgress) and progress.writes_lines and rows):
+        return None if peaks is None else peaks.update
+    latest: list[Array | None] = [None]
+
+    def moving() -> int | None:
+        values = latest[0]
+        return None if values is None else int(np.count_nonzero(np.any(values[rows], axis=0)))
+
+    progress.moving = moving
+    update = None if peaks is None else peaks.update
+
+    def observe(values: Array) -> None:
+        latest[0] = values
+        if update is not None:
+            update(values)
+
+    return observe
 
 
 def _record(result: RunResult2D, state: State2D) -> None:

@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 import pytest
-from hypothesis import settings
+from hypothesis import HealthCheck, settings
 
 from conslaw import registry
 from conslaw.grid import Grid
@@ -18,8 +18,19 @@ from conslaw.schemes.nessyahu_tadmor.scheme import NessyahuTadmor
 # means the change broke something, not that a new random draw found an old edge case; local
 # runs keep drawing new examples, which is how those edge cases are found (and then fixed, with
 # the example kept as a test).
-settings.register_profile("ci", derandomize=True)
+#
+# No example fails for the wall time it took: no deadline per example (hypothesis's default is
+# 200 ms, which a loaded machine misses), and slow data generation is no failure (the
+# ``too_slow`` health check times the first examples' generation). Set for every test here,
+# whatever its own settings leave out.
+WALL_CLOCK_FREE = {"deadline": None, "suppress_health_check": [HealthCheck.too_slow]}
+settings.register_profile("default", **WALL_CLOCK_FREE)
+settings.register_profile("ci", derandomize=True, **WALL_CLOCK_FREE)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "default"))
+
+# The interval of the progress lines (docs/cli.md, "Progress") is the tests' to set: one set in
+# the developer's shell would add lines to what the tests read (or, not a number, fail them).
+os.environ.pop("CONSLAW_PROGRESS_SECONDS", None)
 
 
 def make_scheme(

@@ -71,6 +71,25 @@ def package(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> tuple[str, Path]
     return name, folder
 
 
+@pytest.fixture(params=["beside the module", "NUMBA_CACHE_DIR"])
+def numba_cache(
+    request: pytest.FixtureRequest, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> str:
+    """numba's cache in ``__pycache__`` beside the generated modules, or under
+    ``NUMBA_CACHE_DIR`` (which a user may set), whatever the environment of the tests says: in
+    this process (``numba.config``) and in its children (the variable)."""
+    import numba
+
+    folder = ""
+    if request.param == "NUMBA_CACHE_DIR":
+        folder = str(tmp_path / "numba-cache")
+        monkeypatch.setenv("NUMBA_CACHE_DIR", folder)
+    else:
+        monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
+    monkeypatch.setattr(numba.config, "CACHE_DIR", folder)
+    return folder
+
+
 def generated(name: str, folder: Path) -> object:
     """The kernel of the test template bound to ``physics.twice``, as the code is now."""
     for module in [m for m in sys.modules if m.startswith(f"{name}.physics")]:
@@ -80,11 +99,13 @@ def generated(name: str, folder: Path) -> object:
     return generate(folder / "template.py", {"_twice": physics.twice}, {"SCALE": 3.0})
 
 
-def test_only_the_bound_source_recompiles(package: tuple[str, Path]) -> None:
+def test_only_the_bound_source_recompiles(package: tuple[str, Path], numba_cache: str) -> None:
     """Appending to a module the compiled code does not reach keeps the module (and numba's
     cache of it); appending to the bound function's file makes a new one. The version used last
     before it stays (two versions in use at once do not remove each other's kernels); the one
-    before that is removed with numba's cache files of it."""
+    before that is removed with numba's cache files of it, wherever numba keeps them (beside
+    the module, or under ``NUMBA_CACHE_DIR``: the folder numba's own cache of the function
+    names)."""
     name, folder = package
     first = generated(name, folder)
     np.testing.assert_array_equal(first.apply(np.array([1.0, 2.0])), [6.0, 12.0])
@@ -100,10 +121,13 @@ def test_only_the_bound_source_recompiles(package: tuple[str, Path]) -> None:
         np.testing.assert_array_equal(modules[-1].apply(np.array([1.0])), [6.0])
     second, third = modules
     assert len({first.__name__, second.__name__, third.__name__}) == 3
+    numba_folder = Path(second.apply._cache._cache_path)  # type: ignore[attr-defined]
+    assert numba_folder == codegen.numba_cache_folder(kernels / f"{second.__name__}.py")
+    assert numba_folder.is_relative_to(numba_cache or kernels)
     assert (kernels / f"{second.__name__}.py").exists()
-    assert list((kernels / "__pycache__").glob(f"{second.__name__}.*"))
+    assert list(numba_folder.glob(f"{second.__name__}.*"))
     assert not (kernels / f"{first.__name__}.py").exists()
-    assert not list((kernels / "__pycache__").glob(f"{first.__name__}.*"))
+    assert not list(numba_folder.glob(f"{first.__name__}.*"))
 
 
 def test_two_installations_of_the_same_code_share_their_kernels(
@@ -357,10 +381,11 @@ def test_processes_that_need_the_same_kernels_compile_them_once(
     assert sorted(int(out.strip()) for out, _ in outputs) == [0, 1], outputs
 
 
-def test_a_damaged_kernel_cache_is_rebuilt(package: tuple[str, Path]) -> None:
+def test_a_damaged_kernel_cache_is_rebuilt(package: tuple[str, Path], numba_cache: str) -> None:
     """Garbled numba index files, truncated data files and a generated module that is not
     UTF-8 (a crash or a full disk while they were written): the next process rebuilds them and
-    gets the right numbers, and the process after it loads the rebuilt entries."""
+    gets the right numbers, and the process after it loads the rebuilt entries (numba's cache
+    beside the module or under ``NUMBA_CACHE_DIR``)."""
     name, folder = package
     script = CHILD.format(
         source=str(folder.parent), name=name, template=str(folder / "template.py")
@@ -375,9 +400,11 @@ def test_a_damaged_kernel_cache_is_rebuilt(package: tuple[str, Path]) -> None:
     assert child() == ([6.0, 12.0], 0)
     assert child() == ([6.0, 12.0], 1)
     cache = Path(os.environ["CONSLAW_CACHE_DIR"])
-    for index in (cache / "__pycache__").glob("*.nbi"):
+    numba_folder = codegen.numba_cache_folder(cache / "module.py")
+    assert list(numba_folder.glob("*.nbi")), "the children's cache is not where it is looked for"
+    for index in numba_folder.glob("*.nbi"):
         index.write_bytes(b"\x80garbled")
-    for data in (cache / "__pycache__").glob("*.nbc"):
+    for data in numba_folder.glob("*.nbc"):
         data.write_bytes(data.read_bytes()[:40])
     assert child() == ([6.0, 12.0], 0)
     assert child() == ([6.0, 12.0], 1)

@@ -10,7 +10,6 @@ import signal
 import subprocess
 import sys
 import threading
-import time
 from collections.abc import Iterator
 from concurrent.futures import Future
 from concurrent.futures.process import BrokenProcessPool
@@ -29,6 +28,7 @@ from conslaw.ensemble.design import draw, parse_variation, unit_points
 from conslaw.ensemble.engine import DaskEngine, LocalEngine, WorkerLostError
 from conslaw.ensemble.member import MemberOutcome, MemberTask, run_member, state_digest
 from conslaw.ensemble.products import exceedance, rank_correlations
+from conslaw.ensemble.store import StudyFolder
 from conslaw.ensemble.study import _execute
 from conslaw.ensemble.summary import margins, member_summary
 from conslaw.errors import ConfigError
@@ -292,28 +292,46 @@ def _journal_lines(path: Path) -> int:
     return path.read_bytes().count(b"\n") if path.exists() else 0
 
 
+INTERRUPTED_STUDY = """
+import os, signal, sys
+from conslaw.cli import console_main
+from conslaw.ensemble.store import StudyFolder
+
+record = StudyFolder.record
+kept = []
+
+def record_then_interrupt(self, outcome):
+    record(self, outcome)
+    kept.append(outcome.index)
+    if len(kept) == {at}:
+        os.kill(os.getpid(), signal.SIGINT)  # as Ctrl-C would, once this many are kept
+
+StudyFolder.record = record_then_interrupt
+sys.argv = ["conslaw", *{argv!r}]
+sys.exit(console_main())
+"""
+
+
 def test_an_interrupted_study_resumed_equals_an_uninterrupted_one(tmp_path: Path) -> None:
+    """A SIGINT once half the members are kept (sent by the study's process to itself when it
+    keeps that member: counted, not timed, so the study cannot finish first on a fast machine
+    or a slow poller), then ``--resume``: the dataset of an uninterrupted study."""
     samples = 120
     argv = [
-        sys.executable, "-m", "conslaw", "ensemble", SCENE, "--samples", str(samples),
+        "ensemble", SCENE, "--samples", str(samples),
         "--set", "n_cells=100", "--workers", "2", "--no-plot",
         *[item for text in VARY for item in ("--vary", text)],
     ]  # fmt: skip
     out = tmp_path / "interrupted"
-    child = subprocess.Popen(
-        [*argv, "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
-    )
-    deadline = time.monotonic() + 120
-    while _journal_lines(out / "members.jsonl") < samples // 2 and child.poll() is None:
-        assert time.monotonic() < deadline
-        time.sleep(0.005)
-    child.send_signal(signal.SIGINT)
-    _, error = child.communicate(timeout=60)
+    script = INTERRUPTED_STUDY.format(at=samples // 2, argv=[*argv, "--out", str(out)])
+    child = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
+    error = child.stderr
     assert child.returncode == 130, error
     assert error.strip().startswith("conslaw: interrupted:") and len(error.splitlines()) == 1
+    argv = [sys.executable, "-m", "conslaw", *argv]
     partial = read_dataset(out / "study.nc")
     kept = int((partial.status.values != "pending").sum())
-    assert 0 < kept < samples, kept
+    assert samples // 2 <= kept < samples, kept
     assert kept == _journal_lines(out / "members.jsonl")
     resumed = subprocess.run([*argv, "--out", str(out), "--resume"], capture_output=True)
     assert resumed.returncode == 0, resumed.stderr
@@ -327,31 +345,33 @@ def test_an_interrupted_study_resumed_equals_an_uninterrupted_one(tmp_path: Path
     )
 
 
-def _kill_a_worker_when(journal: Path, lines: int, killed: list[int]) -> None:
-    """Once ``journal`` has ``lines`` members, SIGKILL the worker process that ran the last."""
-    deadline = time.monotonic() + 120
-    while _journal_lines(journal) < lines:
-        assert time.monotonic() < deadline
-        time.sleep(0.002)
-    last = journal.read_text().splitlines()[lines - 1]
-    pid = int(json.loads(last)["worker"].rsplit(":", 1)[1])
-    os.kill(pid, signal.SIGKILL)
-    killed.append(pid)
+def _kill_a_worker_at(lines: int, killed: list[int]) -> None:
+    """Make the study folder, once it has kept ``lines`` members, SIGKILL the worker process
+    that ran the last (counted by the study's own journal writes, not timed: the study cannot
+    finish first). For the test's duration, or a child process's."""
+    record = StudyFolder.record
+    kept: list[int] = []
+
+    def record_then_kill(self: StudyFolder, outcome: MemberOutcome) -> None:
+        record(self, outcome)
+        kept.append(outcome.index)
+        if len(kept) == lines:
+            pid = int(outcome.worker.rsplit(":", 1)[1])
+            os.kill(pid, signal.SIGKILL)
+            killed.append(pid)
+
+    StudyFolder.record = record_then_kill  # type: ignore[method-assign]
 
 
-def _watch(out: Path, killed: list[int]) -> threading.Thread:
-    watcher = threading.Thread(target=_kill_a_worker_when, args=(out / "members.jsonl", 10, killed))
-    watcher.start()
-    return watcher
-
-
-def test_a_local_worker_killed_mid_study_loses_and_repeats_no_member(tmp_path: Path) -> None:
+def test_a_local_worker_killed_mid_study_loses_and_repeats_no_member(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     reference = _study(tmp_path / "reference", samples=60)
     out = tmp_path / "s"
     killed: list[int] = []
-    watcher = _watch(out, killed)
+    monkeypatch.setattr(StudyFolder, "record", StudyFolder.record)  # put back after the test
+    _kill_a_worker_at(10, killed)
     study = _study(out, samples=60)
-    watcher.join()
     assert killed
     indices = [json.loads(line)["member"] for line in (out / "members.jsonl").open()]
     assert sorted(indices) == list(range(60))
@@ -360,12 +380,12 @@ def test_a_local_worker_killed_mid_study_loses_and_repeats_no_member(tmp_path: P
 
 
 DASK_STUDY = """
-import sys, threading
+import sys
 from pathlib import Path
 import distributed
 from conslaw.ensemble import run_study
 sys.path.insert(0, {tests!r})
-from test_ensemble import SCENE, SMALL, VARY, _kill_a_worker_when
+from test_ensemble import SCENE, SMALL, VARY, _kill_a_worker_at
 
 if __name__ == "__main__":
     out = Path({out!r})
@@ -373,15 +393,11 @@ if __name__ == "__main__":
     with distributed.LocalCluster(
         n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
     ) as cluster:
-        watcher = threading.Thread(
-            target=_kill_a_worker_when, args=(out / "members.jsonl", 10, killed)
-        )
-        watcher.start()
+        _kill_a_worker_at(10, killed)
         run_study(
             SCENE, VARY, 50, out, settings=SMALL,
             options={{"scheduler": cluster.scheduler_address}}, report=print,
         )
-        watcher.join()
     print("killed", killed)
 """
 

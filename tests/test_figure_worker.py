@@ -32,6 +32,15 @@ def run() -> conslaw.simulation.RunResult:
     return simulate(conslaw.load_scene("sh-similarity"))
 
 
+@pytest.fixture(autouse=True)
+def patient_parent(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The parent waits up to two minutes (not :data:`~conslaw.figure_worker.JOIN_SECONDS`)
+    for a stopped child before it kills it: a child that is slow to be scheduled on a loaded
+    machine is not killed mid-clean-up, so the tests' "ended by the stop itself" (exit status
+    0, no temporary file) does not depend on how fast the machine is."""
+    monkeypatch.setattr(figure_worker, "JOIN_SECONDS", 120.0)
+
+
 def started() -> FigureWorker:
     worker = FigureWorker.start()
     assert worker is not None, "a single-threaded Linux process must be able to fork the child"
@@ -135,14 +144,40 @@ def test_a_result_that_does_not_pickle_is_drawn_in_the_parent(run, tmp_path: Pat
     assert [p.name for p in written] == ["profiles.png", "chute.png"]
 
 
-def test_close_stops_a_child_that_got_no_run() -> None:
+def test_close_stops_a_child_that_got_no_run(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     """A run that fails before its figures: ``close`` ends the child at once, without waiting
-    for its warm-up."""
+    for its warm-up. The child is held in its warm-up (patched, in the child only) and says so;
+    ``close`` stops it (SIGTERM) before it waits for it at all, the child ends by its stop
+    handler (exit status 0), and it is not killed. Counted, not timed: a ``close`` that waited
+    for the warm-up first would join before it terminates."""
+    parent = os.getpid()
+    warming = tmp_path / "warming"
+
+    def warm_up_for_an_hour() -> None:
+        if os.getpid() != parent:
+            warming.write_text("")
+            time.sleep(3600)
+
+    monkeypatch.setattr(figure_worker, "_warm_up", warm_up_for_an_hour)
     worker = started()
-    began = time.monotonic()
+    deadline = time.monotonic() + 60  # a generous wait for the fork, not a measurement
+    while not warming.exists():
+        assert time.monotonic() < deadline, "the child never started its warm-up"
+        time.sleep(0.01)
+    process, calls = worker.process, []
+    for name in ("terminate", "join", "kill"):
+        original = getattr(process, name)
+
+        def recorded(*args: object, _name: str = name, _original: object = original) -> None:
+            calls.append(_name)
+            _original(*args)  # type: ignore[operator]
+
+        monkeypatch.setattr(process, name, recorded)
     worker.close()
-    assert time.monotonic() - began < 1.0  # not the warm-up's import of matplotlib
-    assert not worker.process.is_alive()
+    assert calls == ["terminate", "join"], calls
+    assert not process.is_alive() and process.exitcode == 0
 
 
 def _stopped_inside_a_weakref_callback(folder: str) -> None:

@@ -49,6 +49,7 @@ from conslaw.output.files import (
     prepare_output_dir,
     write_figure,
 )
+from conslaw.progress import CountProgress
 
 
 @dataclass
@@ -416,20 +417,26 @@ def _on_engine(
 def _stages(
     members: Members, chosen: Mapping[str, Any], seed: int, report: Callable[[str], None]
 ) -> tuple[dict[str, Any], Uncertainty]:
-    """The three stages (module docstring); the refinement's record and the uncertainty."""
+    """The three stages (module docstring); the refinement's record and the uncertainty. Each
+    stage reports its members as they finish (:class:`~conslaw.progress.CountProgress`; the
+    refinement's are open-ended: its optimiser decides when it has enough), then its result."""
+    members.progress = CountProgress(report, "coarse stage", int(chosen["coarse"]) + 1)
     coarse = coarse_stage(members, int(chosen["coarse"]), seed)
     best = best_of(members.evaluations)
     report(
         f"coarse stage: {len(coarse)} members, best {_shown_values(best.values)} "
         f"(misfit {best.misfit:.4g})"
     )
+    members.progress = CountProgress(report, "refinement", None)
     optimiser = refine(members, best, int(chosen["max_evaluations"]))
     best = best_of(members.evaluations)
     report(
         f"refinement: {optimiser['members']} members, best {_shown_values(best.values)} "
         f"(misfit {best.misfit:.4g})"
     )
+    members.progress = CountProgress(report, "uncertainty")
     uncertainty = uncertainty_stage(members, best, float(chosen["step"]))
+    members.progress = None
     failed = f", {uncertainty.failed} failed" if uncertainty.failed else ""
     report(f"uncertainty: {uncertainty.members} members{failed}")
     return optimiser, uncertainty

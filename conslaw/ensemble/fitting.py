@@ -34,6 +34,7 @@ from conslaw.ensemble.observations import (
     residuals,
 )
 from conslaw.errors import ConfigError
+from conslaw.progress import CountProgress
 
 Array = NDArray[np.float64]
 
@@ -205,6 +206,8 @@ class Members:
         self.evaluations: list[Evaluation] = []
         self._cache: dict[tuple[float, ...], Evaluation] = {}
         self.penalty = FAILED_MISFIT
+        #: Told of every member run (its stage's lines; docs/cli.md, "Progress"), if set.
+        self.progress: CountProgress | None = None
 
     def task(self, index: int, point: Sequence[float]) -> MemberTask:
         """The task of member ``index`` at ``point`` (values of the keys, in order)."""
@@ -230,6 +233,8 @@ class Members:
     def _outcomes(self, tasks: Sequence[MemberTask]) -> dict[int, MemberOutcome]:
         futures = {self.engine.submit(task): task.index for task in tasks}
         outcomes, lost = {}, False
+        if self.progress is not None:
+            self.progress.expect(len(tasks))
         for future in self.engine.completed(futures):
             index = futures[future]
             try:
@@ -237,6 +242,8 @@ class Members:
             except WorkerLostError as error:
                 outcomes[index] = MemberOutcome(index, "failed", str(error), {}, "", math.nan, "")
                 lost = True
+            if self.progress is not None:
+                self.progress(outcomes[index].status == "finished")
         if lost:
             self.engine.restart()  # a local pool whose worker died refuses new members
         return outcomes

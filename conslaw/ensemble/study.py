@@ -29,6 +29,7 @@ from conslaw.ensemble.engine import DaskEngine, LocalEngine, WorkerLostError, en
 from conslaw.ensemble.member import MemberOutcome, MemberTask
 from conslaw.ensemble.store import StudyFolder, StudySpec
 from conslaw.errors import ConfigError, ConslawError, OutputError
+from conslaw.progress import CountProgress
 
 if TYPE_CHECKING:
     import xarray
@@ -156,33 +157,6 @@ def _warm(scenes: Sequence[Any], report: Callable[[str], None]) -> None:
             scene, only_missing=True,
             announce=lambda label: report(f"compiling the {label} (first run of them only)"),
         )  # fmt: skip
-
-
-class _Progress:
-    """Lines saying how far the study is (at most one per ``every`` seconds)."""
-
-    def __init__(self, total: int, done: int, report: Callable[[str], None]) -> None:
-        self.total, self.done, self.report = total, done, report
-        self.failed = 0
-        self.started = time.monotonic()
-        self.last = self.started
-        self.ran = 0
-
-    def __call__(self, outcome: MemberOutcome, every: float = 5.0) -> None:
-        self.done += 1
-        self.ran += 1
-        self.failed += outcome.status != "finished"
-        now = time.monotonic()
-        if now - self.last < every and self.done < self.total:
-            return
-        self.last = now
-        elapsed = now - self.started
-        left = (self.total - self.done) * elapsed / self.ran
-        failed = f", {self.failed} did not finish" if self.failed else ""
-        self.report(
-            f"members: {self.done} of {self.total} done{failed}, {elapsed:.1f} s"
-            + (f", about {left:.0f} s left" if self.done < self.total else "")
-        )
 
 
 class _Batches:
@@ -463,7 +437,8 @@ def _run(
     missing = [task for task, _ in checked if task.index not in done]
     if done:
         report(f"resuming: {len(done)} of {len(checked)} members kept, {len(missing)} to run")
-    progress = _Progress(len(checked), len(done), report)
+    # A line now and then (docs/cli.md, "Progress"), and one when the last member is in.
+    progress = CountProgress(report, "study", len(checked), len(done), final=True)
 
     def keep(outcome: MemberOutcome) -> None:
         with signals.held():
@@ -477,7 +452,7 @@ def _run(
                 ) from None
             done[outcome.index] = outcome
             refresh()
-        progress(outcome)
+        progress(outcome.status == "finished")
         latch.check()
 
     last = [time.monotonic(), 0.0]  # when the dataset was last written, and how long it took

@@ -32,7 +32,7 @@ from typing import Any
 
 import numba
 import numpy as np
-from numba.core.caching import Cache
+from numba.core.caching import Cache, _CacheLocator
 
 from conslaw.errors import KernelCacheError
 
@@ -101,18 +101,25 @@ def _usable(folder: Path) -> Path:
     return folder
 
 
+def numba_cache_folder(module_file: Path) -> Path:
+    """The folder in which numba keeps the cache of the functions of ``module_file``, as its
+    cache locators choose it: under ``NUMBA_CACHE_DIR`` (``numba.config.CACHE_DIR``) in a
+    folder named for the module's folder when that is set, else ``__pycache__`` beside the
+    module (the kernel folder is writable: :func:`cache_dir`)."""
+    numba_folder = getattr(numba.config, "CACHE_DIR", "")  # set at run time: no stub knows it
+    if numba_folder:
+        return Path(numba_folder) / _CacheLocator.get_suitable_cache_subpath(str(module_file))
+    return module_file.parent / "__pycache__"
+
+
 def compiled_before(module: ModuleType, function: str) -> bool:
-    """Whether numba's cache beside a generated ``module`` holds ``function`` compiled (for some
-    argument types): False means its first call compiles. Always True without the JIT."""
+    """Whether numba's cache of a generated ``module`` (:func:`numba_cache_folder`) holds
+    ``function`` compiled (for some argument types): False means its first call compiles.
+    Always True without the JIT."""
     if getattr(numba.config, "DISABLE_JIT", False):
         return True
-    pattern = f"{module.__name__}.{function}-*.nbi"
-    folder = Path(module.__file__ or "").parent / "__pycache__"
-    if any(folder.glob(pattern)):
-        return True
-    # With NUMBA_CACHE_DIR, numba keeps its index files in a tree under that folder.
-    numba_folder = os.environ.get("NUMBA_CACHE_DIR", "")
-    return bool(numba_folder) and any(Path(numba_folder).rglob(pattern))
+    folder = numba_cache_folder(Path(module.__file__ or ""))
+    return any(folder.glob(f"{module.__name__}.{function}-*.nbi"))
 
 
 def import_path(function: Callable[..., Any]) -> tuple[str, str]:
@@ -287,7 +294,7 @@ def _prune(folder: Path, family: str, keep: str) -> None:
             if path.stem not in kept:
                 path.unlink(missing_ok=True)
     # numba's cache files of the family's other modules (also of modules already gone)
-    for cached in (folder / "__pycache__").glob(f"{family}_*"):
+    for cached in numba_cache_folder(folder / f"{keep}.py").glob(f"{family}_*"):
         if cached.name.split(".", 1)[0] not in kept:
             cached.unlink(missing_ok=True)
 
