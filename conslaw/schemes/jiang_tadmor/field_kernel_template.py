@@ -24,19 +24,16 @@ two agree to round-off (the tests ask for bit for bit).
 
 from typing import NamedTuple  # noqa: I001 (the binding block below is replaced when generated)
 
-import math
 
 import numpy as np
 from numba import njit, prange
 
 from conslaw.kernelgen.stack import local_matrix, local_vector
-from conslaw.schemes.jiang_tadmor.constants import DEEPEST, LOWEST, SPEED_X, SPEED_Y
 from conslaw.schemes.nessyahu_tadmor.constants import FILM
 
 # The flat kernels' names this template uses: generated, the import names the flat kernel module
 # of the same model and reconstructor (kernels.jt_field_kernels).
 from conslaw.schemes.jiang_tadmor.kernel_template import (
-    DEPTH,
     FLUX_X,
     FLUX_Y,
     HAS_CORRECTION,
@@ -55,6 +52,9 @@ from conslaw.schemes.jiang_tadmor.kernel_template import (
     _jacobian_y_point,
     _max_speed_point,
     _max_speed_y_point,
+    _resistance_point,
+    _source_point,
+    HAS_RESISTANCE,
     average_row,
     chunk_rows,
     clamp_film,
@@ -62,8 +62,10 @@ from conslaw.schemes.jiang_tadmor.kernel_template import (
     correct_cell,
     depth_rules,
     film_of,
-    flow_changes,
+    flow_push,
     raw_slopes,
+    resist,
+    row_statistics_with,
     row_velocities,
     start_film_bounds,
     velocity_at,
@@ -74,11 +76,8 @@ from conslaw.schemes.jiang_tadmor.kernel_template import (
 from conslaw.pointwise import (
     coefficients_2d_point as _coefficients_2d_point,
     corner_coefficients_point as _corner_coefficients_point,
-    resistance_point as _resistance_point,
-    source_point as _source_point,
 )
 
-HAS_RESISTANCE = True
 HAS_DYNAMIC = True
 HAS_INTERFACE = True
 VARYING_FIRST = 0
@@ -134,19 +133,6 @@ def tangent(aux, slopes):
     one: the plane's metric, bit for bit)."""
     slopes[0] = aux[TANGENT_X] if TANGENT_X >= 0 else 0.0
     slopes[1] = aux[TANGENT_Y] if TANGENT_Y >= 0 else 0.0
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def resist(momentum_x, momentum_y, impulse, slopes):
-    """Coulomb's stopping rule (:func:`conslaw.schemes.jiang_tadmor.quarter_sources.resist`):
-    ``(0, 0)`` where the momentum's length in the surface metric of ``slopes`` is at most
-    ``impulse``, else the momentum shortened by ``impulse`` along itself."""
-    size = math.hypot(momentum_x, momentum_y)
-    if TANGENT_X >= 0:
-        size = math.hypot(size, slopes[0] * momentum_x + slopes[1] * momentum_y)
-    if size <= impulse:
-        return 0.0, 0.0
-    return momentum_x - impulse * (momentum_x / size), momentum_y - impulse * (momentum_y / size)
 
 
 @njit(cache=True, error_model="numpy")
@@ -336,17 +322,7 @@ def film_window_field(w, field, row, c, step, film, params, bounds):
                 q[v] = w[v, r, i]
             load_aux(aux, field.aux, r, i)
             tangent(aux, slopes)
-            depth = q[DEPTH]
-            changes[0], changes[1], changes[2] = 0.0, 0.0, 0.0
-            if depth >= film and depth > 0.0:
-                _source_point(q, aux, params, source)
-                momentum_x, momentum_y = q[MOMENTUM], q[MOMENTUM_Y]
-                driven_x = momentum_x + step.dt * source[MOMENTUM]
-                driven_y = momentum_y + step.dt * source[MOMENTUM_Y]
-                if HAS_RESISTANCE:
-                    impulse = step.dt * _resistance_point(q, aux, params)
-                    driven_x, driven_y = resist(driven_x, driven_y, impulse, slopes)
-                flow_changes(momentum_x, momentum_y, driven_x, driven_y, depth, slopes, changes)
+            flow_push(q, aux, params, step.dt, film, slopes, source, changes)
             speeds[0] = _max_speed_point(q, aux, params)
             speeds[1] = _max_speed_y_point(q, aux, params)
             widen_film_bounds(
@@ -384,39 +360,12 @@ def finish_row_field(w, out, k, step, params, field):
             clamp_film(out, k, j, depth, bounds, speeds, slopes)
 
 
-@njit(cache=True, error_model="numpy")
-def row_statistics_field(out, k, columns, params, statistics, aux_table):
-    """The flat kernel's ``row_statistics`` with each cell's coefficients from ``aux_table``
-    (padded as ``out``): the wave speeds read them."""
-    q, aux = local_vector(NV), local_vector(NAUX)
-    speed_x, speed_y, lowest, deepest, finite = 0.0, 0.0, np.inf, -np.inf, True
-    for j in range(columns):
-        residue = 0.0
-        for v in range(NV):
-            q[v] = out[v, NG + k, NG + j]
-            residue += q[v] - q[v]
-        load_aux(aux, aux_table, NG + k, col(NG + j))
-        along_x = _max_speed_point(q, aux, params)
-        along_y = _max_speed_y_point(q, aux, params)
-        speed_x = max(speed_x, along_x)
-        speed_y = max(speed_y, along_y)
-        residue += (along_x - along_x) + (along_y - along_y)
-        finite = finite and residue == 0.0
-        lowest = min(lowest, q[DEPTH])
-        deepest = max(deepest, q[DEPTH])
-    if not finite:
-        speed_x, speed_y, lowest = np.nan, np.nan, np.nan
-    statistics[k, SPEED_X] = speed_x
-    statistics[k, SPEED_Y] = speed_y
-    statistics[k, LOWEST] = lowest
-    statistics[k, DEEPEST] = deepest
-
-
 @njit(cache=True, parallel=True, error_model="numpy")
 def family_statistics_field(w, rows, columns, params, statistics, aux_table):
-    """:func:`row_statistics_field` of every real row of the padded family ``w``."""
+    """The flat kernel's ``row_statistics_with`` of every real row of the padded family ``w``,
+    each cell's coefficients from ``aux_table``."""
     for k in prange(rows):
-        row_statistics_field(w, k, columns, params, statistics, aux_table)
+        row_statistics_with(w, k, columns, params, statistics, aux_table)
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
@@ -440,4 +389,4 @@ def step_family_field(w, out, work, statistics, params, step, field):
                 average_row(w, out, k, step, params, low, high)
             quarter_row(out, k, step, params, low, high, field)
             finish_row_field(w, out, k, step, params, field)
-            row_statistics_field(out, k, step.columns, params, statistics, field.aux_new)
+            row_statistics_with(out, k, step.columns, params, statistics, field.aux_new)

@@ -47,6 +47,8 @@ def jt_kernels(model: Model, reconstructor: Reconstructor) -> ModuleType:
         "_max_speed_y_point": model_class.max_speed_y_point,
         "_correct_point": model_class.correct_point or pointwise.unbound,
         "_slope_point": reconstructor.slope_point if custom else pointwise.slope_point,
+        "_source_point": model_class.source_point or pointwise.unbound,
+        "_resistance_point": model_class.resistance_point or pointwise.unbound,
     }
     uses = model.capabilities()
     constants = {
@@ -59,6 +61,8 @@ def jt_kernels(model: Model, reconstructor: Reconstructor) -> ModuleType:
         "MOMENTUM_Y": -1 if model.momentum_y_index is None else int(model.momentum_y_index),
         "DRY_DEPTH": float(model.dry_depth()),
         "CUSTOM_SLOPES": custom,
+        "HAS_RESISTANCE": bool(uses["resistance"]),
+        "SURFACE_METRIC": model.tangent_slope_rows is not None,
     }
     return generate(TEMPLATE, bindings, constants)  # type: ignore[arg-type]
 
@@ -142,14 +146,11 @@ def jt_field_kernels(model: Model, reconstructor: Reconstructor) -> ModuleType:
     rows = varying_rows(model)
     assert rows is not None
     bindings = {
-        "_source_point": model_class.source_point,
-        "_resistance_point": model_class.resistance_point or pointwise.unbound,
         "_coefficients_2d_point": model_class.coefficients_2d_point or pointwise.unbound,
         "_corner_coefficients_point": model_class.corner_coefficients_point or pointwise.unbound,
     }
     tangent = model.tangent_slope_rows
     constants = {
-        "HAS_RESISTANCE": bool(uses["resistance"]),
         "HAS_DYNAMIC": bool(uses["dynamic_coefficients"]),
         "HAS_INTERFACE": bool(uses["interface_coefficients"]),
         "VARYING_FIRST": rows[0],
