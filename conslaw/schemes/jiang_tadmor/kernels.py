@@ -159,9 +159,4 @@ def jt_field_kernels(model: Model, reconstructor: Reconstructor) -> ModuleType:
         "TANGENT_Y": -1 if tangent is None else int(tangent[1]),
     }
     flat = jt_kernels(model, reconstructor)
-    return generate(
-        FIELD_TEMPLATE,
-        bindings,  # type: ignore[arg-type]
-        constants,
-        imports={FLAT_TEMPLATE_MODULE: flat},
-    )
+    return generate(FIELD_TEMPLATE, bindings, constants, imports={FLAT_TEMPLATE_MODULE: flat})
