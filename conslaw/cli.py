@@ -634,7 +634,10 @@ def _add_calibrate(commands: Any) -> None:
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser (exposed for the documentation)."""
-    parser = _Parser(prog="conslaw", description="Hyperbolic conservation laws in 1D and 2D, avalanches on terrain.")
+    parser = _Parser(
+        prog="conslaw",
+        description="Hyperbolic conservation laws in 1D and 2D, avalanches on terrain.",
+    )
     from conslaw import __version__
 
     parser.add_argument("--version", action="version", version=f"conslaw {__version__}")

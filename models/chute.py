@@ -227,7 +227,9 @@ class TableChute(Chute):
         else:
             x, values = binned_profile(x, values, MAX_SPLINE_ROWS)
             try:
-                with np.errstate(all="raise"), warnings.catch_warnings():
+                # Underflow is harmless (a bump of 1e-199 m is a flat bed); overflow and
+                # invalid values are not.
+                with np.errstate(all="raise", under="ignore"), warnings.catch_warnings():
                     warnings.simplefilter("error")
                     spline = make_smoothing_spline(x, values)
                     slope = spline.derivative()

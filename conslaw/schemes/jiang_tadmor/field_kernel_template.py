@@ -122,9 +122,10 @@ def field_work_shape(chunks, columns):
 
 @njit(cache=True, error_model="numpy", inline="always")
 def load_aux(aux, table, row, c):
-    """The coefficients of padded cell ``(row, c)`` of ``table`` into ``aux``."""
+    """The coefficients of padded cell ``(row, c)`` of ``table`` (laid out ``(rows, columns,
+    NAUX)``, the scheme's ``cell_major``) into ``aux``."""
     for a in range(NAUX):
-        aux[a] = table[a, row, c]
+        aux[a] = table[row, c, a]
 
 
 @njit(cache=True, error_model="numpy", inline="always")

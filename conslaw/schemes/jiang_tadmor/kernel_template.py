@@ -666,7 +666,7 @@ def bound_films(w, out, k, step, params):
 
 #: The coefficient table of a model without coefficients at its cells (no rows, no cells):
 #: :func:`row_statistics_with` then reads zeros.
-NO_AUX_TABLE = np.zeros((NAUX, 0, 0))
+NO_AUX_TABLE = np.zeros((0, 0, NAUX))
 
 
 @njit(cache=True, error_model="numpy")
@@ -680,17 +680,17 @@ def row_statistics_with(out, k, columns, params, statistics, aux_table):
     """Largest wave speeds in x and y, smallest and largest depth of padded row ``NG + k`` into
     ``statistics[k]``; the speeds and the smallest depth NaN if a value or a wave speed of the
     row is not finite (a NaN or infinite momentum of a dry cell too, whose wave speeds are 0).
-    Each cell's coefficients come from ``aux_table`` (``(NAUX, rows, columns)``, padded as
+    Each cell's coefficients come from ``aux_table`` (``(rows, columns, NAUX)``, padded as
     ``out``), or are 0 if it has no cells (:data:`NO_AUX_TABLE`)."""
     q, aux = local_vector(NV), local_vector(NAUX)
     for a in range(NAUX):
         aux[a] = 0.0
-    tabled = aux_table.shape[1] > 0
+    tabled = aux_table.shape[0] > 0
     speed_x, speed_y, lowest, deepest, finite = 0.0, 0.0, np.inf, -np.inf, True
     for j in range(columns):
         if tabled:
             for a in range(NAUX):
-                aux[a] = aux_table[a, NG + k, col(NG + j)]
+                aux[a] = aux_table[NG + k, col(NG + j), a]
         # x - x is 0 for a finite x and NaN for a NaN or an infinity (no fast-math): the sum is
         # 0 only if every value and wave speed of the cell is finite.
         residue = 0.0

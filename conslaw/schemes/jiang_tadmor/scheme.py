@@ -125,6 +125,24 @@ def on_field(model: Model) -> bool:
     )
 
 
+def cell_major(table: Array) -> Array:
+    """A coefficient table ``(n_aux, rows, columns)`` laid out ``(rows, columns, n_aux)``,
+    contiguous: the kernel reads every coefficient of a cell at once, from one run of memory
+    instead of ``n_aux`` planes.
+
+    Parameters
+    ----------
+    table : ndarray
+        ``(n_aux, rows, columns)``.
+
+    Returns
+    -------
+    ndarray
+        ``(rows, columns, n_aux)``, C-contiguous (a copy).
+    """
+    return np.ascontiguousarray(np.moveaxis(table, 0, -1))
+
+
 def over_bed(model: Model) -> bool:
     """Whether ``model`` runs the compiled kernels over a bed
     (:func:`~conslaw.schemes.jiang_tadmor.kernels.jt_bed_kernels`): it has a depth, both
@@ -295,15 +313,16 @@ class JiangTadmor:
     def _prepare_field(self, reconstructor: Reconstructor, columns: int) -> None:
         """The field kernels, their work array, and a coefficient bundle per direction of a
         step (``self.fields[staggered]``: the source family's coefficients at its centres and
-        quarter points, the new family's at its centres, all padded as the states)."""
+        quarter points, the new family's at its centres, all padded as the states and laid out
+        cell by cell, :func:`cell_major`)."""
         self.field_kernels = jt_field_kernels(self.model, reconstructor)
         self.work = np.zeros(self.field_kernels.field_work_shape(self.chunks, columns))
         reference = self.reference
         self.fields = {
             s: self.field_kernels.Field(
-                np.ascontiguousarray(reference.family_aux_padded(s)),
-                *(np.ascontiguousarray(quarter) for quarter in reference.quarter_aux_padded(s)),
-                np.ascontiguousarray(reference.family_aux_padded(not s)),
+                cell_major(reference.family_aux_padded(s)),
+                *(cell_major(quarter) for quarter in reference.quarter_aux_padded(s)),
+                cell_major(reference.family_aux_padded(not s)),
             )
             for s in (False, True)
         }
