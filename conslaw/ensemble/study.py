@@ -410,6 +410,9 @@ def run_study(
             _warm([scene for _, scene in checked], report)
             folder = StudyFolder(Path(out))
             done = folder.open(spec, bool(chosen.get("resume", False)))
+            note = folder.damage_note()
+            if note is not None:
+                report(note)
             try:
                 return _run(spec, (variations, values), checked, done, folder, engine,
                             (file_format, latch), report)  # fmt: skip
