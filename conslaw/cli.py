@@ -546,7 +546,9 @@ def _add_ensemble(commands: Any) -> None:
     )  # fmt: skip
     study.add_argument("--samples", type=int, required=True, help="members")
     study.add_argument("--design", default="lhs", choices=DESIGNS, help="sample design (lhs)")
-    study.add_argument("--seed", type=int, default=0, help="the same seed, the same members")
+    study.add_argument(
+        "--seed", type=int, default=0, help="the same seed, the same members (0 to 2**64 - 1)"
+    )
     study.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     study.add_argument("--out", help="study folder (default conslaw-output/ensemble-SCENE)")
     study.add_argument("--resume", action="store_true", help="run only the missing members")
@@ -620,7 +622,9 @@ def _add_calibrate(commands: Any) -> None:
         help=f"standard error of an observation (default {RELATIVE_ERROR:g} of its magnitude)",
     )  # fmt: skip
     fit.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
-    fit.add_argument("--seed", type=int, default=0, help="the same seed, the same calibration")
+    fit.add_argument(
+        "--seed", type=int, default=0, help="the same seed, the same calibration (0 to 2**64 - 1)"
+    )
     fit.add_argument(
         "--coarse", type=int, help=f"members of the coarse stage ({COARSE_PER_KEY} per key)"
     )

@@ -229,7 +229,36 @@ TERRAIN_CASES: list[BadInput] = [
 ]
 
 
+#: ``conslaw ensemble`` of the run-out scene with one varied key (then the case's arguments).
+ENSEMBLE = ["ensemble", "sh-runout-shock", "--vary", "parameters.delta=uniform:22:28", "--samples",
+            "2", "--set", "n_cells=50", "--workers", "1", "--out", "study"]  # fmt: skip
+#: ``conslaw calibrate`` of the run-out scene (then the case's arguments).
+CALIBRATE = ["calibrate", "sh-runout-shock", "--fit", "parameters.delta=20:30", "--workers", "1",
+             "--out", "fit"]  # fmt: skip
+
+#: Issue 46 ("Faults round three"): each was a traceback, a hang or a silent wrong answer.
+FAULTS_46: list[BadInput] = [
+    bad(
+        "ensemble-seed-negative",
+        [*ENSEMBLE, "--seed=-1"],
+        ["--seed: expected an integer from 0 to 2**64 - 1, got -1"],
+    ),
+    bad(
+        "ensemble-seed-2-to-the-80",
+        [*ENSEMBLE, "--seed", str(2**80)],
+        ["--seed", f"got {2**80}"],
+    ),
+    bad("ensemble-seed-2-to-the-64", [*ENSEMBLE, "--seed", str(2**64)], ["--seed", "2**64 - 1"]),
+    bad(
+        "calibrate-seed-negative",
+        [*CALIBRATE, "--observed", "runout_length=30", "--seed=-5"],
+        ["--seed: expected an integer from 0", "got -5"],
+    ),
+]
+
+
 CASES: list[BadInput] = [
+    *FAULTS_46,
     # ---- nesting, odd paths and values (each was a traceback or a hang)
     bad(
         "scene-file-nested-too-deep",

@@ -660,3 +660,17 @@ def test_the_dataset_is_rewritten_as_members_arrive(
     # At least once before the end with fewer members (the first member kept writes it).
     assert written[-1] == 6 and len(written) >= 2
     assert written[0] < 6 and written == sorted(written)
+
+
+def test_the_largest_seed_draws_runs_and_is_kept_exactly(tmp_path: Path) -> None:
+    """A 64-bit seed runs, is written to ``study.nc`` (as text: netCDF 3 attributes hold 32
+    bits; 2**31 crashed the writer after every member ran) and resumes."""
+    seed = 2**64 - 1
+    out = tmp_path / "s"
+    study = run_study(SCENE, VARY[:1], 2, out, seed=seed, settings=SMALL,
+                      options={"workers": 1}, report=print)  # fmt: skip
+    assert read_dataset(out / "study.nc").attrs["seed"] == str(seed)
+    assert list(study.dataset.status.values) == ["finished"] * 2
+    again = run_study(SCENE, VARY[:1], 2, out, seed=seed, settings=SMALL,
+                      options={"workers": 1, "resume": True}, report=print)  # fmt: skip
+    assert again.ran == 0

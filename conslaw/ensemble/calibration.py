@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import Any
 
 from conslaw.config import plain_values
+from conslaw.ensemble.design import check_seed
 from conslaw.ensemble.engine import engine_for
 from conslaw.ensemble.fitting import (
     COARSE_PER_KEY,
@@ -346,6 +347,7 @@ def calibrate(
     ConfigError
         Bad input (before any member runs), or no member of the coarse stage finished.
     """
+    seed = check_seed(seed)
     source = scene_source(scene)[0]
     chosen_settings = plain_settings(settings or {})
     observed, fit = plain_values(observed), plain_values(fit)

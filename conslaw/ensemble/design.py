@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from conslaw.errors import ConfigError
+from conslaw.errors import ConfigError, shown
 
 Array = NDArray[np.float64]
 
@@ -122,6 +122,26 @@ def _check_arguments(key: str, kind: str, arguments: tuple[float, ...]) -> None:
         raise ConfigError(f"{where} with LOW <= MODE <= HIGH, got {arguments}")
     if kind == "triangular" and not arguments[0] < arguments[2]:
         raise ConfigError(f"{where} with LOW < HIGH, got {arguments}")
+
+
+#: Largest seed: 64 bits (numpy and scipy take larger ones, but a seed is a label to repeat a
+#: study by, and every file that keeps it holds this many bits).
+MAX_SEED = 2**64 - 1
+
+
+def check_seed(seed: object) -> int:
+    """``seed`` as an int if it is an integer from 0 to :data:`MAX_SEED`; a ConfigError naming
+    ``--seed`` otherwise (checked before anything runs: a seed numpy refuses, or one a file
+    cannot hold, would stop a study after its members ran)."""
+    import operator
+
+    try:
+        number = operator.index(seed)  # type: ignore[arg-type]
+    except TypeError:
+        number = None
+    if isinstance(seed, bool) or number is None or not 0 <= number <= MAX_SEED:
+        raise ConfigError(f"--seed: expected an integer from 0 to 2**64 - 1, got {shown(seed)}")
+    return int(number)
 
 
 def unit_points(design: str, samples: int, dimensions: int, seed: int) -> Array:

@@ -24,7 +24,7 @@ from numpy.typing import NDArray
 from conslaw import signals
 from conslaw.config import plain_values
 from conslaw.ensemble.dataset import build_dataset, check_format, write_dataset
-from conslaw.ensemble.design import Variation, draw, parse_variation
+from conslaw.ensemble.design import Variation, check_seed, draw, parse_variation
 from conslaw.ensemble.engine import DaskEngine, LocalEngine, WorkerLostError, engine_for
 from conslaw.ensemble.member import MemberOutcome, MemberTask
 from conslaw.ensemble.store import StudyFolder, StudySpec
@@ -389,6 +389,7 @@ def run_study(
         A signal stopped it; every finished member is kept.
     """
     chosen, file_format = _options(options)
+    seed = check_seed(seed)
     source, digest = scene_source(scene)
     spec = StudySpec(
         source, plain_settings(settings or {}), [], design, int(samples), int(seed),
