@@ -7,7 +7,7 @@ import signal
 import time
 from collections.abc import Callable, Mapping
 from pathlib import Path
-from typing import Any
+from typing import Any, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
@@ -238,7 +238,17 @@ def kernel_label(scene: Scene, model: Model) -> str:
     return f"{scene.model}, {variant}" if variant else scene.model
 
 
-def steps_needed(scene: Scene, since: tuple[float, int], t: float, steps: int) -> float:
+class StepBudget(Protocol):
+    """What the step-limit rules read of a scene (1D or 2D): its end time and step limit."""
+
+    @property
+    def t_end(self) -> float: ...
+
+    @property
+    def max_steps(self) -> int: ...
+
+
+def steps_needed(scene: StepBudget, since: tuple[float, int], t: float, steps: int) -> float:
     """The steps a run at ``t`` after ``steps`` steps needs to reach ``t_end``, at its rate since
     ``since`` = (time, steps) of the previous check (an early transient of tiny steps does not
     count against it once the steps grow)."""
@@ -254,7 +264,7 @@ def hopeless_factor(steps: int) -> float:
     return HOPELESS_FACTOR if steps < CONFIDENT_AFTER_STEPS else CONFIDENT_FACTOR
 
 
-def cannot_finish(scene: Scene, since: tuple[float, int], t: float, steps: int) -> bool:
+def cannot_finish(scene: StepBudget, since: tuple[float, int], t: float, steps: int) -> bool:
     """Whether a run at ``t`` after ``steps`` steps would need more than ``HOPELESS_FACTOR *
     max_steps`` steps in all at its recent rate (:func:`steps_needed`; a domain far too small
     for its waves, say), or, once ``CONFIDENT_AFTER_STEPS`` steps make the rate a firm
@@ -267,7 +277,7 @@ def cannot_finish(scene: Scene, since: tuple[float, int], t: float, steps: int) 
 
 
 def step_limit_message(
-    scene: Scene, t_start: float, t: float, steps: int, early: bool = False
+    scene: StepBudget, t_start: float, t: float, steps: int, early: bool = False
 ) -> str:
     """The one line a run stopped by ``max_steps`` reports: where it stopped, its mean time step
     and how many steps the whole run would need at that rate (``early``: stopped before the

@@ -24,6 +24,7 @@ from conslaw.peak_fields import PeakFields
 from conslaw.progress import RunProgress
 from conslaw.result2d import RunResult2D, State2D
 from conslaw.scene2d import Scene2D
+from conslaw.simulation import cannot_finish, step_limit_message
 
 Array = NDArray[np.float64]
 
@@ -123,16 +124,18 @@ def simulate_2d(
     result.peaks = PeakFields.start(model, grid, q)
     observe = _observer(model, result.peaks, progress)
     reached = [0.0, 0]
+    checked = [0.0, 0]  # time and steps at the previous report
     last_output: float | None = None
 
     def report(t: float, steps: int) -> None:
         total = result.steps + steps
         reached[:] = [t, total]
         if total > scene.max_steps and t < scene.t_end:
-            raise StepLimitError(
-                f"scene key 'max_steps' = {scene.max_steps} reached: the run stopped at "
-                f"t={t:.6g} of t_end={scene.t_end:g} after {total} steps"
-            )
+            raise StepLimitError(step_limit_message(scene, 0.0, t, total))
+        # As the 1D runner: a run whose rate needs far more than max_steps stops now.
+        if cannot_finish(scene, (checked[0], int(checked[1])), t, total) and t < scene.t_end:
+            raise StepLimitError(step_limit_message(scene, 0.0, t, total, early=True))
+        checked[:] = [t, total]
         if progress is not None:
             progress(t, total)
 

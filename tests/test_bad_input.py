@@ -254,6 +254,11 @@ FAULTS_46: list[BadInput] = [
         [*CALIBRATE, "--observed", "runout_length=30", "--seed=-5"],
         ["--seed: expected an integer from 0", "got -5"],
     ),
+    bad(
+        "2d-domain-too-narrow-for-max_steps",
+        ["run", "sw2d-dam-break-x", "--set", "y_max=1e-9", "--set", "n_cells=[20, 4]"],
+        ["more than 10 times scene key 'max_steps' = 100000000", "after 10000 steps"],
+    ),
 ]
 
 
