@@ -236,6 +236,8 @@ ENSEMBLE = ["ensemble", "sh-runout-shock", "--vary", "parameters.delta=uniform:2
 CALIBRATE = ["calibrate", "sh-runout-shock", "--fit", "parameters.delta=20:30", "--workers", "1",
              "--out", "fit"]  # fmt: skip
 
+#: A dotted key 5000 levels deep.
+DEEP_KEY = "parameters" + ".a" * 5000
 #: Issue 46 ("Faults round three"): each was a traceback, a hang or a silent wrong answer.
 FAULTS_46: list[BadInput] = [
     bad(
@@ -258,6 +260,45 @@ FAULTS_46: list[BadInput] = [
         "2d-domain-too-narrow-for-max_steps",
         ["run", "sw2d-dam-break-x", "--set", "y_max=1e-9", "--set", "n_cells=[20, 4]"],
         ["more than 10 times scene key 'max_steps' = 100000000", "after 10000 steps"],
+    ),
+    bad(
+        "deep-dotted-key-in-a-scene-file",
+        ["run", "bad.toml"],
+        ["scene file 'bad.toml' nests tables or arrays more than 50 deep"],
+        scene_file(SCENE + "[parameters]\n" + "a" + ".a" * 5000 + " = 1\n"),
+    ),
+    bad(
+        "deep-table-header-in-a-scene-file",
+        ["show", "bad.toml"],
+        ["scene file 'bad.toml' nests tables or arrays more than 50 deep"],
+        scene_file(SCENE + "[" + ".".join(["parameters"] + ["a"] * 5000) + "]\nb = 1\n"),
+    ),
+    bad(
+        "deep-dotted-key-in-a-2d-scene-file",
+        ["run", "bad.toml"],
+        ["nests tables or arrays more than 50 deep"],
+        scene_file('model = "shallow-water-2d"\nparameters.' + ".".join(["a"] * 5000) + " = 1\n"),
+    ),
+    bad("deep-dotted-key-set", [*RIEMANN, DEEP_KEY + "=1"], ["5001 parts; at most 50"]),
+    bad(
+        "deep-dotted-key-set-2d",
+        ["run", "sw2d-dam-break-x", "--set", DEEP_KEY + "=1"],
+        ["scene key 'parameters.a.a.a", "5001 parts; at most 50"],
+    ),
+    bad(
+        "deep-dotted-key-show",
+        ["show", "burgers-riemann", "--set", DEEP_KEY + "=1"],
+        ["5001 parts"],
+    ),
+    bad(
+        "deep-dotted-key-vary",
+        ["ensemble", "sh-runout-shock", "--vary", DEEP_KEY + "=uniform:1:2", "--samples", "2"],
+        ["--vary 'parameters.a.a.a", "5001 parts; at most 50"],
+    ),
+    bad(
+        "deep-dotted-key-fit",
+        [*CALIBRATE, "--observed", "runout_length=30", "--fit", DEEP_KEY + "=1:2"],
+        ["--fit 'parameters.a.a.a", "5001 parts; at most 50"],
     ),
 ]
 
@@ -1075,6 +1116,17 @@ def test_console_script_behaves_the_same(case: str, tmp_path: Path) -> None:
 
 
 # ---------------------------------------------------------------------- Python API
+def _nested(depth: int) -> list[Any]:
+    value: list[Any] = [1.0]
+    for _ in range(depth):
+        value = [value]
+    return value
+
+
+#: A value nested 3000 deep, and a list that holds itself (Python can make both).
+NESTED = _nested(3000)
+SELF_HOLDING: list[Any] = [0.1]
+SELF_HOLDING.append(SELF_HOLDING)
 API_CASES: list[tuple[str, dict[str, Any], str]] = [
     ("n_cells as a string", {"n_cells": "100"}, "n_cells"),
     ("reconstructor as a number", {"reconstructor": 5}, "expected a name"),
@@ -1087,6 +1139,9 @@ API_CASES: list[tuple[str, dict[str, Any], str]] = [
     ("boundary option of the wrong boundary",
      {"boundary__left": {"kind": "wall", "state": [1]}}, "no options"),
     ("front tracking on a thin layer", {"front_tracking": True}, "fills the whole domain"),
+    ("value nested 3000 deep", {"x_max": NESTED}, "its value nests lists or tables more than 50"),
+    ("a list that holds itself", {"output_times": SELF_HOLDING}, "nests lists or tables"),
+    ("key 5001 parts deep", {"parameters" + "__a" * 5000: 1.0}, "5001 parts; at most 50"),
 ]  # fmt: skip
 
 

@@ -21,7 +21,7 @@ from functools import partial
 from pathlib import Path
 from typing import Any
 
-from conslaw.config import plain_values
+from conslaw.config import MAX_NESTING, plain_values
 from conslaw.ensemble.design import check_seed
 from conslaw.ensemble.engine import engine_for
 from conslaw.ensemble.fitting import (
@@ -150,6 +150,10 @@ def parse_fit(text: str) -> tuple[str, float, float]:
     ('parameters.delta', 20.0, 35.0)
     """
     key, bounds = split_pair(text, "--fit", "KEY=LOW:HIGH")
+    if key.count(".") >= MAX_NESTING:
+        raise ConfigError(
+            f"--fit {shown(key, 40)}: {key.count('.') + 1} parts; at most {MAX_NESTING}"
+        )
     parts = bounds.split(":")
     if len(parts) != 2:
         raise ConfigError(f"--fit {key}: expected LOW:HIGH, got '{bounds}'")

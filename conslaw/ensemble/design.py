@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from conslaw.config import MAX_NESTING
 from conslaw.errors import ConfigError, shown
 
 Array = NDArray[np.float64]
@@ -89,7 +90,11 @@ def parse_variation(text: str) -> Variation:
     key, separator, spec = text.partition("=")
     key = key.strip()
     if not separator or not key:
-        raise ConfigError(f"--vary expects KEY=DISTRIBUTION:ARGS, got '{text}'")
+        raise ConfigError(f"--vary expects KEY=DISTRIBUTION:ARGS, got {shown(text)}")
+    if key.count(".") >= MAX_NESTING:
+        raise ConfigError(
+            f"--vary {shown(key, 40)}: {key.count('.') + 1} parts; at most {MAX_NESTING}"
+        )
     kind, _, argument_text = spec.strip().partition(":")
     if kind not in DISTRIBUTIONS:
         known = ", ".join(f"{name}:{args}" for name, args in DISTRIBUTIONS.items())
