@@ -528,7 +528,11 @@ def _add_quiet(parser: argparse.ArgumentParser) -> None:
 def _add_engine_options(parser: argparse.ArgumentParser) -> None:
     """Where the members of a study or calibration run: ``--scheduler``, ``--workers``."""
     parser.add_argument("--scheduler", help="a Dask scheduler address, e.g. tcp://host:8786")
-    parser.add_argument("--workers", type=int, help="local processes (default: one per core)")
+    parser.add_argument(
+        "--workers",
+        type=int,
+        help="local processes (default and at most: one per core; at most one per member)",
+    )
 
 
 def _add_ensemble(commands: Any) -> None:

@@ -674,3 +674,25 @@ def test_the_largest_seed_draws_runs_and_is_kept_exactly(tmp_path: Path) -> None
     again = run_study(SCENE, VARY[:1], 2, out, seed=seed, settings=SMALL,
                       options={"workers": 1, "resume": True}, report=print)  # fmt: skip
     assert again.ran == 0
+
+
+def test_workers_are_capped_by_the_cores_and_the_members(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``--workers 1000`` on a 2-member study started 227 processes in 147 s and finished no
+    member: at most one worker per core and per member starts, and the study says so."""
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    assert LocalEngine(1000, members=4).workers == min(cores or 1, 4)
+    assert LocalEngine(1000, members=1).workers == 1
+    assert LocalEngine(1, members=100).note is None
+    assert LocalEngine(members=1).workers == 1  # the default too, without a note
+    for bad in ("2", 2.0, True, 0):
+        with pytest.raises(ConfigError, match="--workers: expected an integer >= 1"):
+            LocalEngine(bad)  # type: ignore[arg-type]
+    out = tmp_path / "s"
+    argv = ["ensemble", SCENE, "--vary", VARY[0], "--samples", "2", "--set", "n_cells=50"]
+    assert main([*argv, "--workers", "1000", "--out", str(out), "--no-plot"]) == 0
+    printed = capsys.readouterr().out
+    started = min(cores or 1, 2)
+    assert f"--workers 1000: starting {started}, at most one per core" in printed, printed
+    assert "one per member (2)" in printed and f"on {started} workers" in printed, printed

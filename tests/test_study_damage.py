@@ -90,7 +90,7 @@ def studies(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Any]:
 @pytest.fixture
 def threads() -> Iterator[None]:
     with pytest.MonkeyPatch.context() as patch:
-        patch.setattr(study_module, "engine_for", lambda scheduler, workers: ThreadEngine(2))
+        patch.setattr(study_module, "engine_for", lambda *args: ThreadEngine(2))
         yield
 
 

@@ -23,7 +23,7 @@ from typing import Any
 
 from conslaw.config import MAX_NESTING, plain_values
 from conslaw.ensemble.design import check_seed
-from conslaw.ensemble.engine import engine_for
+from conslaw.ensemble.engine import LocalEngine, engine_for
 from conslaw.ensemble.fitting import (
     COARSE_PER_KEY,
     MAX_EVALUATIONS,
@@ -407,6 +407,8 @@ def _on_engine(
     """The stages (:func:`_stages`) on the engine ``chosen`` names, started for them and
     stopped after (at once on an interrupt); ``members(engine=...)`` makes the members."""
     engine = engine_for(chosen.get("scheduler"), chosen.get("workers"))
+    if isinstance(engine, LocalEngine) and engine.note is not None:
+        report(engine.note)
     engine.start()
     try:
         run = members(engine=engine)

@@ -32,7 +32,7 @@ from conslaw.ensemble.member import (
     run_member,
     run_members,
 )
-from conslaw.errors import ConfigError
+from conslaw.errors import ConfigError, shown
 
 
 class WorkerLostError(Exception):
@@ -86,16 +86,31 @@ class LocalEngine:
     Parameters
     ----------
     workers : int, optional
-        Processes (default: the cores this process may use).
+        Processes (default: the cores this process may use). At most one per core and one per
+        member are started (more only wait their turn, each holding a whole interpreter with
+        its kernels); :attr:`note` says so when ``workers`` asked for more.
+    members : int, optional
+        The members to run, if known.
     """
 
     name = "local"
 
-    def __init__(self, workers: int | None = None) -> None:
-        if workers is not None and workers < 1:
-            raise ConfigError(f"--workers: expected an integer >= 1, got {workers}")
-        cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else None
-        self.workers = workers or cores or os.cpu_count() or 1
+    def __init__(self, workers: int | None = None, members: int | None = None) -> None:
+        if workers is not None and (
+            isinstance(workers, bool) or not isinstance(workers, int) or workers < 1
+        ):
+            raise ConfigError(f"--workers: expected an integer >= 1, got {shown(workers)}")
+        affinity = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else None
+        cores = affinity or os.cpu_count() or 1
+        cap = min(cores, max(members, 1)) if members is not None else cores
+        self.workers = min(workers or cores, cap)
+        #: Why fewer workers than asked start (None: as many as asked).
+        self.note: str | None = None
+        if workers is not None and workers > self.workers:
+            each = f"one per core this process may use ({cores})"
+            if members is not None:
+                each += f" and one per member ({members})"
+            self.note = f"--workers {shown(workers)}: starting {self.workers}, at most {each}"
         self._pool: ProcessPoolExecutor | None = None
 
     def start(self) -> None:
@@ -266,10 +281,13 @@ class DaskEngine:
         self.stop(wait=False)
 
 
-def engine_for(scheduler: Any = None, workers: int | None = None) -> LocalEngine | DaskEngine:
-    """:class:`DaskEngine` for a scheduler, else :class:`LocalEngine` with ``workers``."""
+def engine_for(
+    scheduler: Any = None, workers: int | None = None, members: int | None = None
+) -> LocalEngine | DaskEngine:
+    """:class:`DaskEngine` for a scheduler, else :class:`LocalEngine` with ``workers`` (for
+    ``members`` members, if known)."""
     if scheduler is not None:
         if workers is not None:
             raise ConfigError("--workers is for the local engine; a Dask cluster has its own")
         return DaskEngine(scheduler)
-    return LocalEngine(workers)
+    return LocalEngine(workers, members)

@@ -399,7 +399,9 @@ def run_study(
     spec.vary.extend(v.text for v in variations)
     _check_fields(spec, variations)
     values = draw(variations, design, int(samples), int(seed))
-    engine = engine_for(chosen.get("scheduler"), chosen.get("workers"))
+    engine = engine_for(chosen.get("scheduler"), chosen.get("workers"), int(samples))
+    if isinstance(engine, LocalEngine) and engine.note is not None:
+        report(engine.note)
     first = member_tasks(spec, variations, values[:1])[0][0]
     # The workers start (and load the first member's kernels) while the members are checked.
     engine.start()
