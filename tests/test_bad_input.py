@@ -236,6 +236,9 @@ ENSEMBLE = ["ensemble", "sh-runout-shock", "--vary", "parameters.delta=uniform:2
 CALIBRATE = ["calibrate", "sh-runout-shock", "--fit", "parameters.delta=20:30", "--workers", "1",
              "--out", "fit"]  # fmt: skip
 
+#: ``conslaw calibrate`` of a 2D terrain scene.
+CALIBRATE_2D = ["calibrate", "terrain-plane-to-flat", "--fit", "parameters.delta=20:30",
+                "--workers", "1", "--out", "fit"]  # fmt: skip
 #: A dotted key 5000 levels deep.
 DEEP_KEY = "parameters" + ".a" * 5000
 #: Issue 46 ("Faults round three"): each was a traceback, a hang or a silent wrong answer.
@@ -260,6 +263,51 @@ FAULTS_46: list[BadInput] = [
         "2d-domain-too-narrow-for-max_steps",
         ["run", "sw2d-dam-break-x", "--set", "y_max=1e-9", "--set", "n_cells=[20, 4]"],
         ["more than 10 times scene key 'max_steps' = 100000000", "after 10000 steps"],
+    ),
+    bad(
+        "calibrate-observed-runout-negative",
+        [*CALIBRATE, "--observed", "runout_length=-5"],
+        ["--observed runout_length=-5: no member can match it", "between 0 and"],
+    ),
+    bad(
+        "calibrate-observed-front-beyond-the-domain",
+        [*CALIBRATE, "--observed", "front=1000"],
+        ["--observed front=1000", "x in [-10, 40]"],
+    ),
+    bad(
+        "calibrate-observed-deposit-before-the-domain",
+        [*CALIBRATE, "--observed", "deposit_centre=-1e9"],
+        ["--observed deposit_centre=-1e+09", "lies in the domain"],
+    ),
+    bad(
+        "calibrate-observed-travel-angle-90",
+        [*CALIBRATE, "--observed", "travel_angle=90"],
+        ["--observed travel_angle=90", "(-90, 90) degrees"],
+    ),
+    bad(
+        "calibrate-observed-runout-longer-than-the-domain",
+        [*CALIBRATE, "--observed", "runout_length=1e6"],
+        ["--observed runout_length=1e+06", "domain's extent 50"],
+    ),
+    bad(
+        "calibrate-2d-observed-depth-negative",
+        [*CALIBRATE_2D, "--observed", "max_depth=-1"],
+        ["--observed max_depth=-1: no member can match it (a max depth is >= 0)"],
+    ),
+    bad(
+        "calibrate-2d-observed-speed-negative",
+        [*CALIBRATE_2D, "--observed", "max_speed=-3"],
+        ["--observed max_speed=-3", ">= 0"],
+    ),
+    bad(
+        "calibrate-2d-observed-deposit-off-the-map",
+        [*CALIBRATE_2D, "--observed", "deposit_y=1e9"],
+        ["--observed deposit_y=1e+09", "y in [-250, 250]"],
+    ),
+    bad(
+        "calibrate-2d-observed-runout-beyond-the-diagonal",
+        [*CALIBRATE_2D, "--observed", "runout_length=2000"],
+        ["--observed runout_length=2000", "domain's extent 1118.03"],
     ),
     bad(
         "deep-dotted-key-in-a-scene-file",

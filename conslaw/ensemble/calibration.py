@@ -384,6 +384,7 @@ def _observations(
 ) -> list[Observation]:
     """The observations of the scene ``source`` (with ``settings``), each with its standard
     error (:func:`~conslaw.ensemble.observations.read_observations`)."""
+    from conslaw.grid import Grid
     from conslaw.grid2d import Grid2D
     from conslaw.scene2d import Scene2D, load_any_scene
 
@@ -395,7 +396,7 @@ def _observations(
             scene.x_min, scene.x_max, scene.nx, scene.y_min, scene.y_max, scene.ny
         )
         return read_observations(given, tolerances, 2, grid)
-    return read_observations(given, tolerances, 1, None)
+    return read_observations(given, tolerances, 1, Grid(scene.x_min, scene.x_max, scene.n_cells))
 
 
 def _on_engine(
@@ -450,15 +451,38 @@ def _stages(
     return optimiser, uncertainty
 
 
+#: A best member whose weighted residuals are this many standard errors (root mean square) is
+#: not a fit: a note says so.
+FAR_MISS = 5.0
+#: A fitted value within this fraction of its range from a bound sits against it (with a
+#: best member that misses the observations by :data:`FAR_MISS`).
+NEAR_BOUND = 0.01
+
+
 def _notes(calibration: Calibration) -> list[str]:
     """What a reader of the fit should know about it."""
     notes = []
     best = calibration.best
+    count = len(best.residuals)
+    miss = math.sqrt(best.misfit / count) if count else 0.0
+    far = miss > FAR_MISS
     for key in calibration.keys:
-        where = key.unit(calibration.fitted[key.key])
+        value = calibration.fitted[key.key]
+        where = key.unit(value)
+        bound = key.low if where < 0.5 else key.high
         if min(where, 1.0 - where) < 10 * XTOL:
-            bound = key.low if where < 0.5 else key.high
             notes.append(f"{key.key} is at its bound {bound:g}: the best fit may lie beyond it")
+        elif far and min(where, 1.0 - where) < NEAR_BOUND:
+            notes.append(
+                f"{key.key} = {value:.6g} sits against its bound {bound:g}: the best fit may "
+                "lie beyond it"
+            )
+    if far:
+        notes.append(
+            f"the best member misses the observations by {miss:.3g} standard errors (root mean "
+            "square of the weighted residuals): no member matches them; check the observed "
+            "values and their --tolerance, and the bounds of --fit"
+        )
     if best.figures.get("at_boundary") == 1.0:
         notes.append(
             "the best member reached an end of the domain: its run-out is cut short "
