@@ -236,6 +236,8 @@ ENSEMBLE = ["ensemble", "sh-runout-shock", "--vary", "parameters.delta=uniform:2
 CALIBRATE = ["calibrate", "sh-runout-shock", "--fit", "parameters.delta=20:30", "--workers", "1",
              "--out", "fit"]  # fmt: skip
 
+#: ``conslaw ensemble`` varying a whole table (then the case's arguments).
+VARY_INITIAL = ["ensemble", "sh-runout-shock", "--vary", "initial=uniform:1:2"]
 #: ``conslaw calibrate`` of a 2D terrain scene.
 CALIBRATE_2D = ["calibrate", "terrain-plane-to-flat", "--fit", "parameters.delta=20:30",
                 "--workers", "1", "--out", "fit"]  # fmt: skip
@@ -263,6 +265,21 @@ FAULTS_46: list[BadInput] = [
         "2d-domain-too-narrow-for-max_steps",
         ["run", "sw2d-dam-break-x", "--set", "y_max=1e-9", "--set", "n_cells=[20, 4]"],
         ["more than 10 times scene key 'max_steps' = 100000000", "after 10000 steps"],
+    ),
+    bad(
+        "ensemble-vary-and-set-the-same-key",
+        [*ENSEMBLE, "--set", "parameters.delta=25"],
+        ["--vary parameters.delta: --set parameters.delta sets it too", "drop one of them"],
+    ),
+    bad(
+        "ensemble-vary-a-key-of-a-set-table",
+        [*ENSEMBLE, "--set", "parameters={delta=25.0}"],
+        ["--vary parameters.delta: --set parameters sets it too"],
+    ),
+    bad(
+        "ensemble-set-a-key-inside-a-varied-one",
+        [*VARY_INITIAL, "--set", "initial.height=2", "--samples", "2"],
+        ["--vary initial: --set initial.height sets it too"],
     ),
     bad(
         "calibrate-observed-runout-negative",

@@ -341,6 +341,27 @@ def _variations(vary: Sequence[str | Variation]) -> list[Variation]:
     return [v if isinstance(v, Variation) else parse_variation(v) for v in vary]
 
 
+def _check_not_set(settings: Mapping[str, Any], variations: Sequence[Variation]) -> None:
+    """A ConfigError for a varied key that ``--set`` sets too (the same key, a table holding it,
+    or a key inside it): the members would run the varied values while the study recorded the
+    ``--set`` one."""
+    for variation in variations:
+        for key, value in settings.items():
+            inside = key.startswith(variation.key + ".")
+            holds = variation.key.startswith(key + ".")
+            node = value
+            for part in variation.key[len(key) + 1 :].split(".") if holds else []:
+                node = node.get(part, _ABSENT) if isinstance(node, Mapping) else _ABSENT
+            if key == variation.key or inside or (holds and node is not _ABSENT):
+                raise ConfigError(
+                    f"--vary {variation.key}: --set {key} sets it too; a varied key takes its "
+                    "values from --vary only: drop one of them"
+                )
+
+
+_ABSENT = object()
+
+
 def run_study(
     scene: str | Path,
     vary: Sequence[str | Variation],
@@ -396,6 +417,7 @@ def run_study(
         bool(chosen.get("fields", False)), chosen.get("depth_threshold"), digest,
     )  # fmt: skip
     variations = _variations(vary)
+    _check_not_set(spec.settings, variations)
     spec.vary.extend(v.text for v in variations)
     _check_fields(spec, variations)
     values = draw(variations, design, int(samples), int(seed))
