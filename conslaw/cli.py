@@ -733,7 +733,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             # numpy's floating-point warnings (an overflow in an exact solution or a bed) are
             # not for the command line: every state is checked (finite, admissible) and a
             # failure is one line. From Python they show as usual.
-            warnings.filterwarnings("ignore", category=RuntimeWarning, module=r"(numpy|conslaw)")
+            # shapely's too (an overflow in a release polygon's area): conslaw checks the result.
+            warnings.filterwarnings(
+                "ignore", category=RuntimeWarning, module=r"(numpy|conslaw|shapely)"
+            )
             if args.command in ("run", "ensemble", "calibrate") and not args.quiet:
                 from conslaw.progress import line_seconds
 
@@ -747,9 +750,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 130
     except MemoryError:
         # The run's estimate (conslaw.memory) let it start; the machine still ran out.
+        fewer = {"ensemble": "members (--samples)", "calibrate": "members (--coarse)"}
         sys.stderr.write(
-            "conslaw: error: out of memory; use fewer cells or output times (outputs already "
-            "written are complete)\n"
+            f"conslaw: error: out of memory; use fewer {fewer.get(args.command, 'cells')} or "
+            "output times (outputs already written are complete)\n"
         )
         return EXIT_INPUT
     except BrokenPipeError:

@@ -327,6 +327,52 @@ FAULTS_46: list[BadInput] = [
         ["--observed runout_length=2000", "domain's extent 1118.03"],
     ),
     bad(
+        "ensemble-samples-a-billion",
+        [*ENSEMBLE[:4], "--samples", "1000000000"],
+        ["--samples 1000000000: at most 10000000 members in one study"],
+    ),
+    bad(
+        "terrain-release-partly-outside-the-domain",
+        [*TERRAIN, "initial.polygon=[[-100.0, 0.0], [200.0, 0.0], [200.0, 50.0], [-100.0, 50.0]]"],
+        ["33.3% of the release area lies outside the scene's domain", "; domain x 0..1000"],
+    ),
+    bad(
+        "terrain-release-area-overflows",
+        [*TERRAIN, "initial.polygon=[[1e308, 0.0], [-1e308, 0.0], [0.0, 1e308]]"],
+        ["initial.polygon: its area overflows", "check its coordinates"],
+    ),
+    bad(
+        "terrain-dem-a-folder",
+        ([*TERRAIN, *ON_DEM], {"dem.asc": FOLDER}),
+        ["parameters.dem_file 'dem.asc': a folder, not a file"],
+    ),
+    bad(
+        "terrain-dem-a-folder-without-suffix",
+        (
+            [*TERRAIN, "parameters.terrain=dem", "--set", 'parameters.dem_file="dems"'],
+            {"dems": FOLDER},
+        ),
+        ["parameters.dem_file 'dems': a folder, not a file"],
+    ),
+    bad(
+        "terrain-release-file-a-folder",
+        (
+            [*TERRAIN, "initial.polygon=[]", "--set", 'initial.release_file="areas"'],
+            {"areas": FOLDER},
+        ),
+        ["initial.release_file 'areas': a folder, not a file"],
+    ),
+    bad(
+        "terrain-dem-cells-1e-7-from-square",
+        terrain_dem(PLANE_ROWS, text=ASC.replace("cellsize 20", "dx 20.000002\ndy 20")),
+        ["cells are not square (dx=20.000002, dy=20)"],
+    ),
+    bad(
+        "terrain-cells-1e-7-from-square",
+        [*TERRAIN, "x_max=1000.0002"],
+        ["needs square cells", "dx = 5.000001, dy = 5"],
+    ),
+    bad(
         "deep-dotted-key-in-a-scene-file",
         ["run", "bad.toml"],
         ["scene file 'bad.toml' nests tables or arrays more than 50 deep"],
@@ -1167,7 +1213,9 @@ def test_the_catalogue_has_at_least_150_cases() -> None:
 
 
 @pytest.mark.parametrize(
-    "case", ["unknown-scene", "malformed-toml", "wave-speed-overflows"], ids=str
+    "case",
+    ["unknown-scene", "malformed-toml", "wave-speed-overflows", "terrain-release-area-overflows"],
+    ids=str,
 )
 def test_console_script_behaves_the_same(case: str, tmp_path: Path) -> None:
     """Three cases through the installed ``conslaw`` command (a fresh interpreter)."""

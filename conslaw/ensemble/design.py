@@ -129,6 +129,8 @@ def _check_arguments(key: str, kind: str, arguments: tuple[float, ...]) -> None:
         raise ConfigError(f"{where} with LOW < HIGH, got {arguments}")
 
 
+#: Most members of one study (each is checked, and held in memory, before anything runs).
+MAX_SAMPLES = 10_000_000
 #: Largest seed: 64 bits (numpy and scipy take larger ones, but a seed is a label to repeat a
 #: study by, and every file that keeps it holds this many bits).
 MAX_SEED = 2**64 - 1
@@ -161,6 +163,12 @@ def unit_points(design: str, samples: int, dimensions: int, seed: int) -> Array:
         raise ConfigError(f"--design: unknown design '{design}'; known: {', '.join(DESIGNS)}")
     if samples < 1:
         raise ConfigError(f"--samples: expected an integer >= 1, got {samples}")
+    if samples > MAX_SAMPLES:
+        raise ConfigError(
+            f"--samples {shown(samples)}: at most {MAX_SAMPLES} members in one study (every "
+            "member's values, task and figures are held in memory); split it into studies with "
+            "different --seed values"
+        )
     if design == "grid":
         return _grid_points(samples, dimensions)
     from scipy.stats import qmc  # on first use: the command line imports this module

@@ -126,6 +126,8 @@ def start_from_end(end: float, extent: float) -> float:
 
 def raster_driver(path: Path, where: str) -> str:
     """The GDAL driver for ``path`` by its suffix, after checking that it is an existing file."""
+    if path.is_dir():  # not "unsupported file type ''" for a folder without a suffix
+        raise ConfigError(f"{where}: a folder, not a file")
     driver = RASTER_DRIVERS.get(path.suffix.lower())
     if driver is None:
         allowed = ", ".join(sorted(RASTER_DRIVERS))
@@ -220,7 +222,7 @@ def _oriented(
         raise ConfigError(f"{where}: degenerate transform (cell widths {a:g} and {e:g})")
     if not math.isclose(abs(a), abs(e), rel_tol=SQUARE_TOLERANCE):
         raise ConfigError(
-            f"{where}: cells are not square (dx={abs(a):g}, dy={abs(e):g}); resample it to "
+            f"{where}: cells are not square (dx={abs(a):.15g}, dy={abs(e):.15g}); resample it to "
             "square cells"
         )
     cell_size = abs(a)
