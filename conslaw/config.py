@@ -86,7 +86,8 @@ KEY_HELP: dict[str, str] = {
     "boundary": "table: left, right = a boundary name or { kind = ..., options }",
     "initial": "table: kind (piecewise-constant, sine) and its options",
     "output": (
-        "table: formats = files written at each output time, a list of npz (states.npz), "
+        "table: formats = files written at each output time, a list (at least one) of npz "
+        "(states.npz), "
         "xdmf (solution.xdmf + HDF5), vtu (solution-NNNNN.vtu + solution.pvd), csv "
         "(solution-NNNNN.csv, margins.csv); plot = PNG figures at the end (bool)"
     ),
@@ -603,6 +604,11 @@ def _output(table: Mapping[str, Any]) -> tuple[list[str], bool]:
     ):
         raise ConfigError(
             f"output.formats: expected a list of {', '.join(OUTPUT_FORMATS)}, got {formats!r}"
+        )
+    if not formats:
+        raise ConfigError(
+            f"output.formats: an empty list writes no states; give at least one of "
+            f"{', '.join(OUTPUT_FORMATS)}"
         )
     plot = output.get("plot", True)
     if not isinstance(plot, bool):

@@ -15,7 +15,13 @@ from numpy.typing import NDArray
 from conslaw import registry
 from conslaw.analysis import error_norms, total_mass
 from conslaw.config import Scene, load_scene, validate
-from conslaw.errors import ConfigError, RunInterrupted, SchemeBreakdownError, StepLimitError
+from conslaw.errors import (
+    ConfigError,
+    RunInterrupted,
+    SchemeBreakdownError,
+    StepLimitError,
+    shown,
+)
 from conslaw.exact import ExactSolution, Unavailable
 from conslaw.grid import Grid
 from conslaw.memory import available_bytes, run_bytes
@@ -321,6 +327,19 @@ def _record(result: RunResult, state: State, margin_rows: list[Array]) -> None:
     result.mass_drift = (total_mass(state.q, grid.dx) - mass0) / np.where(scale > 0, scale, 1.0)
 
 
+def check_run_arguments(out: object, progress: object) -> None:
+    """A ConfigError, before anything runs, for an ``out`` that is not a path or a ``progress``
+    that cannot be called (``out=123`` was a TypeError, ``progress="x"`` an error mid-run)."""
+    import os
+
+    if out is not None and not isinstance(out, str | os.PathLike):
+        raise ConfigError(f"out: expected a folder (a str or Path), got {shown(out)}")
+    if progress is not None and not callable(progress):
+        raise ConfigError(
+            f"progress: expected a callable progress(t, steps), got {shown(progress)}"
+        )
+
+
 def run(
     scene: str | Path | Scene,
     out: str | Path | None = None,
@@ -347,6 +366,7 @@ def run(
     >>> result = conslaw.run("burgers-riemann", n_cells=400)   # doctest: +SKIP
     >>> result.headline_error()                                 # doctest: +SKIP
     """
+    check_run_arguments(out, progress)
     if isinstance(scene, Scene):
         if overrides:
             raise ConfigError("overrides need a scene name or file, not a Scene object")

@@ -24,7 +24,7 @@ from conslaw.peak_fields import PeakFields
 from conslaw.progress import RunProgress
 from conslaw.result2d import RunResult2D, State2D
 from conslaw.scene2d import Scene2D
-from conslaw.simulation import cannot_finish, step_limit_message
+from conslaw.simulation import cannot_finish, check_run_arguments, step_limit_message
 
 Array = NDArray[np.float64]
 
@@ -235,6 +235,7 @@ def run_2d(
     """
     from conslaw.scene2d import load_scene_2d
 
+    check_run_arguments(out, progress)
     if isinstance(scene, Scene2D):
         if overrides:
             raise ConfigError("overrides need a scene name or file, not a Scene2D object")

@@ -373,6 +373,16 @@ FAULTS_46: list[BadInput] = [
         ["needs square cells", "dx = 5.000001, dy = 5"],
     ),
     bad(
+        "output-formats-empty",
+        [*RIEMANN, "output.formats=[]"],
+        ["output.formats: an empty list writes no states", "npz"],
+    ),
+    bad(
+        "output-formats-empty-2d",
+        ["run", "sw2d-dam-break-x", "--set", "output.formats=[]"],
+        ["output.formats: an empty list writes no states", "geotiff"],
+    ),
+    bad(
         "deep-dotted-key-in-a-scene-file",
         ["run", "bad.toml"],
         ["scene file 'bad.toml' nests tables or arrays more than 50 deep"],
@@ -1339,3 +1349,25 @@ def test_a_scene_object_with_numpy_numbers_runs() -> None:
 
     scene = replace(load_scene("burgers-riemann"), n_cells=np.int64(32), cfl=np.float32(0.4))
     assert simulate(scene).grid.n_cells == 32
+
+
+@pytest.mark.parametrize("run", [conslaw.run, conslaw.run_2d], ids=["run", "run_2d"])
+@pytest.mark.parametrize(
+    ("arguments", "fragment"),
+    [
+        ({"out": 123}, "out: expected a folder (a str or Path), got 123"),
+        ({"out": b"bytes"}, "out: expected a folder"),
+        ({"progress": "x"}, "progress: expected a callable progress(t, steps), got 'x'"),
+    ],
+)
+def test_api_arguments_of_the_wrong_type_are_refused_first(
+    run: Any, arguments: dict[str, Any], fragment: str, tmp_path: Path, monkeypatch: Any
+) -> None:
+    """``conslaw.run(..., out=123)`` was a TypeError and ``progress="x"`` an error mid-run:
+    a one-line ConfigError before anything runs or is written."""
+    monkeypatch.chdir(tmp_path)
+    scene = "burgers-riemann" if run is conslaw.run else "sw2d-dam-break-x"
+    with pytest.raises(ConfigError) as error:
+        run(scene, **arguments)
+    assert fragment in str(error.value)
+    assert "\n" not in str(error.value) and list(tmp_path.iterdir()) == []
