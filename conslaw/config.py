@@ -261,6 +261,8 @@ def scene_path(name_or_path: str | Path) -> tuple[str, Path]:
     text = str(name_or_path)
     if text in registry.scenes:
         return text, registry.scenes.get(text)
+    if "\0" in text:
+        raise ConfigError(f"scene {text!r}: a file name cannot hold a NUL byte")
     path = Path(text)
     if path.suffix == ".toml":
         if not path.is_file():

@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import Any
 
 from conslaw.config import MAX_NESTING, plain_values
-from conslaw.ensemble.design import check_seed
+from conslaw.ensemble.design import MAX_SAMPLES, check_seed
 from conslaw.ensemble.engine import LocalEngine, engine_for
 from conslaw.ensemble.fitting import (
     COARSE_PER_KEY,
@@ -285,8 +285,10 @@ def _checked_options(options: Mapping[str, Any] | None, keys: int) -> dict[str, 
     chosen.setdefault("plot", True)
     if isinstance(chosen["coarse"], bool) or not isinstance(chosen["coarse"], int):
         raise ConfigError(f"--coarse: expected an integer >= 0, got {shown(chosen['coarse'])}")
-    if chosen["coarse"] < 0:
-        raise ConfigError(f"--coarse: expected an integer >= 0, got {chosen['coarse']}")
+    if not 0 <= chosen["coarse"] <= MAX_SAMPLES:
+        raise ConfigError(
+            f"--coarse: expected an integer from 0 to {MAX_SAMPLES}, got {shown(chosen['coarse'])}"
+        )
     step = parse_number(chosen["step"], "--step")
     if not 0 < step <= 0.1:
         raise ConfigError(f"--step: expected a fraction of the bounds in (0, 0.1], got {step:g}")

@@ -13,6 +13,7 @@ that their slopes give the linearised uncertainty (Gauss–Newton; docs/calibrat
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -241,12 +242,17 @@ def read_deposit(path: Path, dimension: int, grid: Any) -> Deposit:
         Naming the file: missing, not a table or raster, or no depth.
     """
     where = f"--observed deposit: '{path}'"
+    if "\0" in str(path):
+        raise ConfigError(f"{where}: a file name cannot hold a NUL byte")
     if not path.is_file():
-        raise ConfigError(f"{where}: no such file")
+        raise ConfigError(f"{where}: {'a folder, not a file' if path.is_dir() else 'no such file'}")
     if dimension == 2:
         return _read_raster_deposit(path, where, grid)
     try:
-        table = np.genfromtxt(path, delimiter=",", dtype=float, skip_header=_header_lines(path))
+        with warnings.catch_warnings():  # an empty file: the check below says so in one line
+            warnings.simplefilter("ignore", UserWarning)
+            skip = _header_lines(path)
+            table = np.genfromtxt(path, delimiter=",", dtype=float, skip_header=skip)
     except (OSError, ValueError) as error:
         raise ConfigError(f"{where}: not a CSV table of x, depth ({error})") from None
     table = np.atleast_2d(table)

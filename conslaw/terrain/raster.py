@@ -126,6 +126,8 @@ def start_from_end(end: float, extent: float) -> float:
 
 def raster_driver(path: Path, where: str) -> str:
     """The GDAL driver for ``path`` by its suffix, after checking that it is an existing file."""
+    if "\0" in str(path):
+        raise ConfigError(f"{where}: a file name cannot hold a NUL byte")
     if path.is_dir():  # not "unsupported file type ''" for a folder without a suffix
         raise ConfigError(f"{where}: a folder, not a file")
     driver = RASTER_DRIVERS.get(path.suffix.lower())
@@ -237,6 +239,12 @@ def _oriented(
         x_min = start_from_end(c, nx * cell_size)
     else:
         x_min = c
+    corners = (x_min, y_min, x_min + nx * cell_size, y_min + ny * cell_size)
+    if not all(math.isfinite(value) for value in corners):  # was "y_min: ... got nan"
+        raise ConfigError(
+            f"{where}: its extent overflows ({nx} x {ny} cells of {cell_size:g} from "
+            f"{c:.12g}, {f:.12g}); check its cell size and corner"
+        )
     return x_min, y_min, cell_size, values, missing
 
 

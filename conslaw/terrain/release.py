@@ -79,10 +79,12 @@ def release_mask(
     path = Path(path)
     where = f"{label} '{path}'"
     suffix = path.suffix.lower()
+    if "\0" in str(path):
+        raise ConfigError(f"{where}: a file name cannot hold a NUL byte")
     if path.is_dir():  # not "unsupported file type ''" for a folder without a suffix
         raise ConfigError(f"{where}: a folder, not a file")
     if suffix in RASTER_DRIVERS:
-        return _raster_mask(dem, read_raster(path, where), where)
+        return _raster_mask(dem, read_raster(path, where), where, extent)
     if suffix in POLYGON_FORMATS:
         return _polygon_mask(dem, path, where, extent)
     allowed = ", ".join(sorted({*POLYGON_FORMATS, *RASTER_DRIVERS}))
@@ -152,13 +154,17 @@ def centres_inside(area: shapely.Geometry, dem: DigitalElevationModel) -> NDArra
     return mask
 
 
-def _raster_mask(dem: DigitalElevationModel, band: RasterBand, where: str) -> NDArray[np.bool_]:
-    """The cells of a raster mask on the DEM's cells that are nonzero and not no-data."""
+def _raster_mask(
+    dem: DigitalElevationModel, band: RasterBand, where: str, extent: str = "the DEM"
+) -> NDArray[np.bool_]:
+    """The cells of a raster mask on the cells of ``dem`` (named ``extent`` in messages) that
+    are nonzero and not no-data."""
+    owner = "the DEM" if extent == "the DEM" else "the scene"
     check_same_crs(band.crs, dem.crs, where)
     if band.shape != dem.shape:
         raise ConfigError(
-            f"{where}: has {band.shape[0]} x {band.shape[1]} cells (rows x columns), the DEM "
-            f"{dem.ny} x {dem.nx}; a release raster must be on the DEM's cells"
+            f"{where}: has {band.shape[0]} x {band.shape[1]} cells (rows x columns), {owner} "
+            f"{dem.ny} x {dem.nx}; a release raster must be on {owner}'s cells"
         )
     tolerance = ALIGNMENT_TOLERANCE * dem.cell_size
     if (
@@ -167,8 +173,8 @@ def _raster_mask(dem: DigitalElevationModel, band: RasterBand, where: str) -> ND
         or not math.isclose(band.cell_size, dem.cell_size, rel_tol=ALIGNMENT_TOLERANCE)
     ):
         raise ConfigError(
-            f"{where}: not on the DEM's cells (south-west corner "
-            f"{map_location(band.x_min, band.y_min)}, cell size {band.cell_size:g}; the DEM's "
+            f"{where}: not on {owner}'s cells (south-west corner "
+            f"{map_location(band.x_min, band.y_min)}, cell size {band.cell_size:g}; {owner}'s "
             f"{map_location(dem.x_min, dem.y_min)}, {dem.cell_size:g})"
         )
     bad = ~np.isfinite(band.values) & ~band.missing
