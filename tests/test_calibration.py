@@ -351,3 +351,14 @@ def test_a_fit_that_cannot_reach_its_observation_says_so(tmp_path: Path) -> None
     assert miss > 100, notes
     written = json.loads((tmp_path / "calibration.json").read_text())
     assert written["notes"] == fit.notes
+
+
+def test_an_information_matrix_that_underflows_gives_infinite_errors() -> None:
+    """Slopes of 1e-200 (a --tolerance of 1e308 makes them so): J^T J underflows to 0 and was
+    a numpy LinAlgError traceback; the keys are then undetermined, with infinite errors."""
+    from conslaw.ensemble.fitting import _covariance
+
+    covariance = _covariance(np.array([[1e-200], [2e-200]]))
+    assert np.isinf(covariance[0, 0])
+    regular = _covariance(np.array([[1.0], [1.0]]))
+    assert regular[0, 0] == pytest.approx(0.5)
