@@ -152,6 +152,16 @@ def _damage_member_beyond_checked(folder: Path) -> None:
     (folder / "members.jsonl").write_bytes(b"".join(lines) + json.dumps(record).encode() + b"\n")
 
 
+def _damage_huge_number_checked(folder: Path) -> None:
+    """A line whose check matches and whose time is an integer beyond the float range."""
+    lines = (folder / "members.jsonl").read_bytes().splitlines(keepends=True)
+    record = {k: v for k, v in json.loads(lines[0]).items() if k != "check"}
+    record["wall_seconds"] = 10**400
+    record["check"] = line_check(record)
+    lines[0] = json.dumps(record).encode() + b"\n"
+    (folder / "members.jsonl").write_bytes(b"".join(lines))
+
+
 def _damage_summary_a_list(folder: Path) -> None:
     lines = (folder / "members.jsonl").read_bytes().splitlines(keepends=True)
     lines[1] = _rewrite_line(json.loads(lines[1]), summary=[1.0, 2.0]) + b"\n"
@@ -208,6 +218,7 @@ CASES = [
     (_damage_member_beyond, "finished", "its check does not match"),
     (_damage_member_beyond_checked, "finished", "member 1000000 is not one of the study's 0 to 11"),
     (_damage_summary_a_list, "finished", "its check does not match"),
+    (_damage_huge_number_checked, "finished", "int too large to convert to float"),
     (_damage_journal_latin1, "finished", "can't decode byte 0xdf"),
     (_damage_journal_deeply_nested, "finished", "line"),
     (_damage_study_latin1, "refused", "study.json' is damaged ('utf-8' codec can't decode"),
@@ -265,7 +276,7 @@ def _intact(folder: Path) -> list[bytes]:
     for line in (folder / "members.jsonl").read_bytes().splitlines():
         try:
             _outcome_from(line, SAMPLES)
-        except (ValueError, TypeError, RecursionError):
+        except (ValueError, TypeError, RecursionError, ArithmeticError):
             continue
         kept.append(line)
     return kept

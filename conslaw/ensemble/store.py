@@ -285,7 +285,7 @@ class StudyFolder:
         for number, line in enumerate(complete.splitlines(), 1):
             try:
                 outcome = _outcome_from(line, samples)
-            except (ValueError, TypeError, RecursionError) as error:
+            except (ValueError, TypeError, RecursionError, ArithmeticError) as error:
                 self.damaged.append((number, str(error).splitlines()[0][:200]))
                 continue
             done[outcome.index] = outcome

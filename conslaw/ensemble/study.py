@@ -362,6 +362,28 @@ def _check_not_set(settings: Mapping[str, Any], variations: Sequence[Variation])
 _ABSENT = object()
 
 
+def _study_spec(
+    scene: str | Path,
+    vary: Sequence[str | Variation],
+    drawn: tuple[str, int, int],
+    settings: Mapping[str, Any] | None,
+    chosen: Mapping[str, Any],
+) -> tuple[StudySpec, list[Variation]]:
+    """The study's spec and variations, each checked before anything runs: the seed, the
+    scene, the keys set and varied (none both), the maps kept."""
+    design, samples, seed = drawn
+    source, digest = scene_source(scene)
+    spec = StudySpec(
+        source, plain_settings(settings or {}), [], design, int(samples), check_seed(seed),
+        bool(chosen.get("fields", False)), chosen.get("depth_threshold"), digest,
+    )  # fmt: skip
+    variations = _variations(vary)
+    _check_not_set(spec.settings, variations)
+    spec.vary.extend(v.text for v in variations)
+    _check_fields(spec, variations)
+    return spec, variations
+
+
 def run_study(
     scene: str | Path,
     vary: Sequence[str | Variation],
@@ -410,17 +432,8 @@ def run_study(
         A signal stopped it; every finished member is kept.
     """
     chosen, file_format = _options(options)
-    seed = check_seed(seed)
-    source, digest = scene_source(scene)
-    spec = StudySpec(
-        source, plain_settings(settings or {}), [], design, int(samples), int(seed),
-        bool(chosen.get("fields", False)), chosen.get("depth_threshold"), digest,
-    )  # fmt: skip
-    variations = _variations(vary)
-    _check_not_set(spec.settings, variations)
-    spec.vary.extend(v.text for v in variations)
-    _check_fields(spec, variations)
-    values = draw(variations, design, int(samples), int(seed))
+    spec, variations = _study_spec(scene, vary, (design, samples, seed), settings, chosen)
+    values = draw(variations, design, int(samples), spec.seed)
     engine = engine_for(chosen.get("scheduler"), chosen.get("workers"), int(samples))
     if isinstance(engine, LocalEngine) and engine.note is not None:
         report(engine.note)
