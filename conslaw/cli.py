@@ -279,6 +279,8 @@ def _print_summary_2d(scene: Scene2D, result: Any) -> None:
         )
     for note in terrain_run_notes(result, scene.output_formats):
         print(f"  note: {note}")
+    if result.stop is not None:
+        print(f"  {result.stop.summary()}")
 
 
 def _print_summary(scene: Scene, result: RunResult) -> None:

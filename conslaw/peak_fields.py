@@ -68,19 +68,26 @@ class PeakFields:
         depth, speed = fields
         return cls(model, aux, depth.copy(), np.where(depth >= REACHED_DEPTH, speed, 0.0))
 
-    def update(self, q: Array) -> None:
+    def update(self, q: Array) -> tuple[Array, Array]:
         """Raise every cell's peaks to those of ``q`` (primary cell values).
 
         Parameters
         ----------
         q : numpy.ndarray
             ``(n_vars, ny, nx)``.
+
+        Returns
+        -------
+        depth, speed : numpy.ndarray
+            The flow depth and speed of ``q`` (``Model.flow_depth_and_speed``), for other
+            watchers of the same pair (the kinetic energy of :mod:`conslaw.stopping`).
         """
         fields = self.model.flow_depth_and_speed(q, self.aux)
         assert fields is not None
         depth, speed = fields
         np.maximum(self.depth, depth, out=self.depth)
         np.maximum(self.speed, np.where(depth >= REACHED_DEPTH, speed, 0.0), out=self.speed)
+        return depth, speed
 
     def pressure(self, density: float) -> Array:
         """The peak dynamic pressure ``density * speed^2`` in kPa (its largest value is that

@@ -18,6 +18,7 @@ if TYPE_CHECKING:
     from conslaw.model import Model
     from conslaw.peak_fields import PeakFields
     from conslaw.scene2d import Scene2D
+    from conslaw.stopping import StopRecord
 
 Array = NDArray[np.float64]
 
@@ -38,7 +39,8 @@ class RunResult2D:
     Attributes
     ----------
     states : list of State2D
-        The cell averages at every output time (``state.t``), the last at ``t_end``.
+        The cell averages at every output time (``state.t``), the last at ``t_end`` (at the
+        stop time of a run that stopped at rest, :attr:`stop`).
     exact : list of ndarray or None
         Exact cell averages at the same times (None without an exact solution).
     errors : list of ErrorNorms or None
@@ -51,6 +53,9 @@ class RunResult2D:
     scheme_notes : list of str
         What the scheme tells of the run so far (the tracked margins of ``jiang-tadmor-ft``
         lagging the material), one line each.
+    stop : StopRecord or None
+        How the run ended, with ``stop.at_rest`` (:mod:`conslaw.stopping`): stopped at rest
+        (its last state at the stop time) or at ``t_end``; None without the rule.
     steps : int
         Time steps taken.
     solve_seconds, compile_seconds : float
@@ -68,6 +73,7 @@ class RunResult2D:
     exact_note: str | None = None
     peaks: PeakFields | None = None
     scheme_notes: list[str] = field(default_factory=list)
+    stop: StopRecord | None = None
     steps: int = 0
     solve_seconds: float = 0.0
     compile_seconds: float = 0.0

@@ -38,6 +38,7 @@ from conslaw.errors import ConfigError, finite_number, unknown_name_message
 from conslaw.grid import MAX_CELLS
 from conslaw.grid2d import Grid2D
 from conslaw.initial2d import InitialCondition2D
+from conslaw.stopping import StopRule, stop_rule
 
 if TYPE_CHECKING:
     from conslaw.model import Model
@@ -68,6 +69,7 @@ DEFAULTS_2D: dict[str, Any] = {
     "boundary": {side: "outflow" for side in SIDES_2D},
     "initial": REQUIRED,
     "output": {"formats": ["npz"], "plot": True},
+    "stop": {},
 }
 
 #: One-line meaning of the keys that differ from a 1D scene's.
@@ -88,6 +90,11 @@ KEY_HELP_2D: dict[str, str] = {
     "initial": "table: kind (dam-break, circle, or the model's own) and its options",
     "output": "table: formats = a list (at least one) of npz (states.npz), xdmf (solution.xdmf "
     "+ HDF5, quadrilateral cells); plot = PNG maps and cuts at the end (bool)",
+    "stop": "table: at_rest = end the run at the first output time at which the material is at "
+    "rest, t_end the cap (bool; default true for a model on terrain, savage-hutter-terrain, "
+    "else false; needs a model with a depth and a momentum); energy_fraction = at rest when "
+    "the kinetic energy is at most this fraction of its peak so far, or every momentum is 0, "
+    'in [0, 1) (default 0.01, AvaFrame\'s stopCrit; docs/terrain.md, "Stopping at rest")',
 }
 
 
@@ -119,6 +126,8 @@ class Scene2D:
     max_steps: int = DEFAULTS_2D["max_steps"]
     #: The state of every inflow side.
     inflow: Mapping[str, tuple[float, ...]] = field(default_factory=dict)
+    #: When the run ends before t_end (``[stop]``; :mod:`conslaw.stopping`).
+    stop: StopRule = field(default_factory=StopRule)
     #: The scene file it was read from ("" for a scene built in Python).
     source_file: str = ""
     validated_model: tuple[Mapping[str, Any], Model] | None = field(
@@ -164,6 +173,7 @@ class Scene2D:
             },
             "initial": self.initial.to_table(),
             "output": {"formats": list(self.output_formats), "plot": self.plot},
+            "stop": self.stop.to_table(),
         }
 
 
@@ -361,6 +371,7 @@ def validate_2d(
         initial_table = resolve_files(initial_table, folder, "initial")
     initial = InitialCondition2D.from_table(initial_table, model_class)
     formats, plot = _output(table["output"])
+    stop = stop_rule(table["stop"], model_object)
     for terrain_only in ("geotiff", "gif"):
         if terrain_only in formats and model_object.scene_dem(grid) is None:
             raise ConfigError(
@@ -373,7 +384,8 @@ def validate_2d(
         x_max=x_max, y_min=y_min, y_max=y_max, t_end=t_end, output_times=tuple(times),
         exact=table["exact"], boundaries=boundaries, initial=initial,
         output_formats=tuple(formats), plot=plot, scheme_options=scheme_options,
-        max_steps=max_steps, inflow=inflow, validated_model=(parameters, model_object),
+        max_steps=max_steps, inflow=inflow, stop=stop,
+        validated_model=(parameters, model_object),
     )  # fmt: skip
 
 

@@ -25,6 +25,7 @@ from conslaw.progress import RunProgress
 from conslaw.result2d import RunResult2D, State2D
 from conslaw.scene2d import Scene2D
 from conslaw.simulation import cannot_finish, check_run_arguments, step_limit_message
+from conslaw.stopping import RestWatch, stop_rule
 
 Array = NDArray[np.float64]
 
@@ -111,7 +112,9 @@ def simulate_2d(
     on_output: Callable[[RunResult2D], None] | None = None,
     notice: Callable[[str], None] | None = None,
 ) -> RunResult2D:
-    """Run a validated 2D scene to every output time.
+    """Run a validated 2D scene to every output time, or, with ``stop.at_rest``, to the first
+    at which the material is at rest (:mod:`conslaw.stopping`; ``result.stop`` says how the run
+    ended).
 
     ``progress(t, steps)`` after every step pair, ``on_output(result)`` at every output time
     (the result so far), ``notice(message)`` before a first compile. A Ctrl-C becomes
@@ -122,7 +125,13 @@ def simulate_2d(
     exact, note = exact_solution_2d(scene, model, grid)
     result = RunResult2D(scene, model, grid, State2D(0.0, q), exact_solution=exact, exact_note=note)
     result.peaks = PeakFields.start(model, grid, q)
-    observe = _observer(model, result.peaks, progress)
+    watch = None
+    if scene.stop.at_rest:
+        rule = stop_rule(scene.stop.to_table(), model)  # a Scene2D changed in Python
+        if result.peaks is None:
+            raise ConfigError(f"stop.at_rest: model '{model.name}' gives no flow depth and speed")
+        watch = RestWatch(rule, model, result.peaks.aux, grid.cell_area, q, scene.t_end)
+    observe = _observer(model, result.peaks, progress, watch)
     reached = [0.0, 0]
     checked = [0.0, 0]  # time and steps at the previous report
     last_output: float | None = None
@@ -130,6 +139,8 @@ def simulate_2d(
     def report(t: float, steps: int) -> None:
         total = result.steps + steps
         reached[:] = [t, total]
+        if watch is not None:
+            watch.timed(t)
         if total > scene.max_steps and t < scene.t_end:
             raise StepLimitError(step_limit_message(scene, 0.0, t, total))
         # As the 1D runner: a run whose rate needs far more than max_steps stops now.
@@ -161,9 +172,13 @@ def simulate_2d(
                 result.steps += steps
             _record(result, State2D(t, q))
             result.scheme_notes = list(getattr(scheme, "notes", list)())
+            if watch is not None:
+                result.stop = watch.at_output(t, q)
             if on_output is not None:
                 on_output(result)
             last_output = t
+            if result.stop is not None and result.stop.stopped:
+                break
     except KeyboardInterrupt as interrupt:
         number = getattr(interrupt, "signal_number", signal.SIGINT)
         raise RunInterrupted(reached[0], int(reached[1]), last_output, number) from None
@@ -171,16 +186,21 @@ def simulate_2d(
 
 
 def _observer(
-    model: Model, peaks: PeakFields | None, progress: Progress2D | None
-) -> Callable[[Array], None] | None:
+    model: Model,
+    peaks: PeakFields | None,
+    progress: Progress2D | None,
+    watch: RestWatch | None = None,
+) -> Callable[[Array], object] | None:
     """What the scheme calls with the values after every step pair (None: nothing): the peak
-    fields' update, and for a :class:`~conslaw.progress.RunProgress` writing lines about a model
+    fields' update, the kinetic energy of ``watch`` (from the speed the peak fields computed),
+    and for a :class:`~conslaw.progress.RunProgress` writing lines about a model
     with a momentum, a reference to the values from which its line counts the moving cells
     (cells with a nonzero momentum; counted only when a line is written, from the values of
     the pair just reported)."""
+    update = _pair_update(peaks, watch)
     rows = [v for v in (model.momentum_index, model.momentum_y_index) if v is not None]
     if not (isinstance(progress, RunProgress) and progress.writes_lines and rows):
-        return None if peaks is None else peaks.update
+        return update
     latest: list[Array | None] = [None]
 
     def moving() -> int | None:
@@ -188,7 +208,6 @@ def _observer(
         return None if values is None else int(np.count_nonzero(np.any(values[rows], axis=0)))
 
     progress.moving = moving
-    update = None if peaks is None else peaks.update
 
     def observe(values: Array) -> None:
         latest[0] = values
@@ -196,6 +215,22 @@ def _observer(
             update(values)
 
     return observe
+
+
+def _pair_update(
+    peaks: PeakFields | None, watch: RestWatch | None
+) -> Callable[[Array], object] | None:
+    """The peak fields' update after a step pair, with the kinetic energy of ``watch`` from
+    the speed it computes (None without peak fields)."""
+    if peaks is None:
+        return None
+    if watch is None:
+        return peaks.update
+
+    def update(values: Array) -> None:
+        watch.pair(values, peaks.update(values)[1])
+
+    return update
 
 
 def _record(result: RunResult2D, state: State2D) -> None:

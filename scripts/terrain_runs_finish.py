@@ -14,7 +14,8 @@ Every case is ``savage-hutter-terrain`` on the whole DEM's extent (x 1000 to 600
 (``mc``, ``cfl = 0.45``, ``delta = 25``, ``phi = 35``, Savage–Hutter earth pressure) unless the
 case says otherwise: on the hockey stick at 20 m cells every combination of ``cfl`` in {0.25,
 0.45}, ``delta`` in {20, 25, 30}, ``phi`` in {delta, 35} and both earth-pressure rules, and the
-default at 10 m; on the inclined plane, the parabolic slope and the bowl the default at 20 m.
+default at 10 m and at 5 m (AvaFrame's own cells); on the inclined plane, the parabolic slope and
+the bowl the default at 20 m.
 
 After every step (both steps of every accepted pair, the staggered family included) it measures
 the speed in the surface of every cell, the largest of the cells at least 1 cm deep (thickness
@@ -70,6 +71,7 @@ def cases() -> list[Case]:
         name = f"HS-20-cfl{cfl:g}-d{delta:g}-p{phi:g}-{'sh' if earth == 'savage-hutter' else 'iso'}"
         found.append(Case(name, "HS", 20.0, settings))
     found.append(Case("HS-10-default", "HS", 10.0, {}))
+    found.append(Case("HS-5-default", "HS", 5.0, {}))
     for topography in ("IP", "PF", "BL"):
         found.append(Case(f"{topography}-20-default", topography, 20.0, {}))
     return found

@@ -108,6 +108,35 @@ def terrain_dem(
 
 TERRAIN_CASES: list[BadInput] = [
     bad("terrain-unknown-kind", [*TERRAIN, "parameters.terrain=hill"], ["parameters.terrain"]),
+    bad("stop-not-a-table", [*TERRAIN, "stop=1"], ["scene key 'stop': expected a table"]),
+    bad("stop-unknown-key", [*TERRAIN, "stop.at_reset=true"], ["stop", "at_reset", "at_rest"]),
+    bad("stop-at-rest-not-bool", [*TERRAIN, "stop.at_rest=1"], ["stop.at_rest", "true or false"]),
+    bad(
+        "stop-fraction-negative",
+        [*TERRAIN, "stop.energy_fraction=-0.01"],
+        ["stop.energy_fraction: must be in [0, 1)"],
+    ),
+    bad(
+        "stop-fraction-one",
+        [*TERRAIN, "stop.energy_fraction=1"],
+        ["stop.energy_fraction: must be in [0, 1)"],
+    ),
+    bad(
+        "stop-fraction-nan",
+        [*TERRAIN, "stop.energy_fraction=nan"],
+        ["stop.energy_fraction: expected a finite number"],
+    ),
+    bad(
+        "stop-fraction-text",
+        [*TERRAIN, 'stop.energy_fraction="1%"'],
+        ["stop.energy_fraction: expected a finite number"],
+    ),
+    bad(
+        "stop-at-rest-without-kinetic-energy",
+        ["run", "burgers2d-shock", "--set", "stop.at_rest=true"],
+        ["stop.at_rest: model 'burgers-2d' has no depth and momentum"],
+    ),
+    bad("stop-in-a-1d-scene", [*SW, "stop.at_rest=true"], ["stop"]),
     bad(
         "terrain-dem-without-file",
         [*TERRAIN, "parameters.terrain=dem"],

@@ -53,11 +53,14 @@ def states_bytes_2d(
     ``x_edges``, ``y_edges``, ``q`` (n_out, n_vars, ny, nx), ``q_exact`` (only for a scene with
     an exact solution; NaN at an output time without one), ``variables``,
     ``variable_meanings`` (what each variable is: on terrain ``h`` is the volume per map area
-    ``H``, not the slope-normal thickness) and ``provenance`` (a JSON string)."""
+    ``H``, not the slope-normal thickness), ``provenance`` (a JSON string) and, for a run with
+    ``stop.at_rest``, ``stop`` (a JSON string: how the run ended so far,
+    :meth:`conslaw.stopping.StopRecord.to_dict`)."""
     grid = result.grid
     x, y = grid.centres()
     q = np.array([state.q for state in result.states])
     exact = exact_arrays(result.exact, [state.q for state in result.states])
+    stop = {} if result.stop is None else {"stop": np.array(result.stop.to_json())}
     return npz_bytes(
         compressed,
         t=np.array([state.t for state in result.states]),
@@ -70,4 +73,5 @@ def states_bytes_2d(
         variables=np.array(result.model.variables),
         variable_meanings=variable_meanings(result.model),
         provenance=np.array(as_json(provenance)),
+        **stop,
     )

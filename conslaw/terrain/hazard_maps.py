@@ -213,6 +213,8 @@ def hazard_maps(result: Any) -> HazardMaps | None:
         "moving_speed_m_s": MOVING_SPEED,
         **{f"max_{field.stem}": float(np.max(field.values)) for field in fields},
     }
+    if result.stop is not None:
+        summary["stop"] = result.stop.to_dict()
     return HazardMaps(dem, released, reached, tuple(fields), summary)
 
 

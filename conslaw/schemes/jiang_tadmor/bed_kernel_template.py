@@ -72,7 +72,7 @@ from conslaw.schemes.jiang_tadmor.kernel_template import (
     row_velocities,
     store_fluxes,
     film_of,
-    flow_changes,
+    flow_push,
     new_speeds,
     start_film_bounds,
     velocity_at,
@@ -508,14 +508,7 @@ def film_window_bed(w, bed, row, c, step, film, params, bounds):
                 q[v] = w[v, r, i]
             for a in range(NAUX):
                 aux[a] = bed.aux[a, r, i]
-            depth = q[DEPTH]
-            changes[0], changes[1], changes[2] = 0.0, 0.0, 0.0
-            if depth >= film and depth > 0.0:
-                _source_point(q, aux, params, source)
-                momentum_x, momentum_y = q[MOMENTUM], q[MOMENTUM_Y]
-                driven_x = momentum_x + step.dt * source[MOMENTUM]
-                driven_y = momentum_y + step.dt * source[MOMENTUM_Y]
-                flow_changes(momentum_x, momentum_y, driven_x, driven_y, depth, flat, changes)
+            flow_push(q, aux, params, step.dt, film, flat, source, changes)
             speeds[0] = _max_speed_point(q, aux, params)
             speeds[1] = _max_speed_y_point(q, aux, params)
             widen_film_bounds(

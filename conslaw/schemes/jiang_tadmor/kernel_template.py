@@ -61,7 +61,9 @@ from conslaw.pointwise import (
     jacobian_y_point as _jacobian_y_point,
     max_speed_point as _max_speed_point,
     max_speed_y_point as _max_speed_y_point,
+    resistance_point as _resistance_point,
     slope_point as _slope_point,
+    source_point as _source_point,
 )
 
 NV = 1
@@ -73,6 +75,8 @@ MOMENTUM = -1
 MOMENTUM_Y = -1
 DRY_DEPTH = 0.0
 CUSTOM_SLOPES = False
+HAS_RESISTANCE = False
+SURFACE_METRIC = False
 # --- end bindings ---
 
 #: Ghost cells per side: the slope stencil's half width and the staggered shift.
@@ -480,6 +484,40 @@ def widen_film_bounds(bounds, u, v, speeds, changes, slopes):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def resist(momentum_x, momentum_y, impulse, slopes):
+    """Coulomb's stopping rule (:func:`conslaw.schemes.jiang_tadmor.quarter_sources.resist`):
+    ``(0, 0)`` where the momentum's length (in the surface metric of ``slopes`` for a model
+    on a surface, ``SURFACE_METRIC``) is at most ``impulse``, else the momentum shortened by
+    ``impulse`` along itself."""
+    size = math.hypot(momentum_x, momentum_y)
+    if SURFACE_METRIC:
+        size = math.hypot(size, slopes[0] * momentum_x + slopes[1] * momentum_y)
+    if size <= impulse:
+        return 0.0, 0.0
+    return momentum_x - impulse * (momentum_x / size), momentum_y - impulse * (momentum_y / size)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def flow_push(q, aux, params, dt, film, slopes, source, changes):
+    """Into ``changes`` (:func:`flow_changes`): what an explicit step ``dt`` of its source and
+    its resistance (with the stopping rule, :func:`resist`) does to the velocities of cell
+    ``q`` with coefficients ``aux``, if it is flow (at least ``film`` deep and not dry); zeros
+    otherwise. ``source`` is scratch space. The reference's ``_flow_changes``; docs/design.md,
+    "Films"."""
+    changes[0], changes[1], changes[2] = 0.0, 0.0, 0.0
+    depth = q[DEPTH]
+    if depth >= film and depth > 0.0:
+        _source_point(q, aux, params, source)
+        momentum_x, momentum_y = q[MOMENTUM], q[MOMENTUM_Y]
+        driven_x = momentum_x + dt * source[MOMENTUM]
+        driven_y = momentum_y + dt * source[MOMENTUM_Y]
+        if HAS_RESISTANCE:
+            impulse = dt * _resistance_point(q, aux, params)
+            driven_x, driven_y = resist(driven_x, driven_y, impulse, slopes)
+        flow_changes(momentum_x, momentum_y, driven_x, driven_y, depth, slopes, changes)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def flow_changes(momentum_x, momentum_y, driven_x, driven_y, depth, slopes, changes):
     """Into ``changes``: the change of each velocity of a cell of the flow of ``depth`` from its
     momentum before to ``driven`` after an explicit step of its source and resistance, and the
@@ -626,16 +664,33 @@ def bound_films(w, out, k, step, params):
             clamp_film(out, k, j, depth, bounds, speeds, flat)
 
 
+#: The coefficient table of a model without coefficients at its cells (no rows, no cells):
+#: :func:`row_statistics_with` then reads zeros.
+NO_AUX_TABLE = np.zeros((NAUX, 0, 0))
+
+
 @njit(cache=True, error_model="numpy")
 def row_statistics(out, k, columns, params, statistics):
+    """:func:`row_statistics_with` of a model whose wave speeds read no coefficients."""
+    row_statistics_with(out, k, columns, params, statistics, NO_AUX_TABLE)
+
+
+@njit(cache=True, error_model="numpy")
+def row_statistics_with(out, k, columns, params, statistics, aux_table):
     """Largest wave speeds in x and y, smallest and largest depth of padded row ``NG + k`` into
     ``statistics[k]``; the speeds and the smallest depth NaN if a value or a wave speed of the
-    row is not finite (a NaN or infinite momentum of a dry cell too, whose wave speeds are 0)."""
+    row is not finite (a NaN or infinite momentum of a dry cell too, whose wave speeds are 0).
+    Each cell's coefficients come from ``aux_table`` (``(NAUX, rows, columns)``, padded as
+    ``out``), or are 0 if it has no cells (:data:`NO_AUX_TABLE`)."""
     q, aux = local_vector(NV), local_vector(NAUX)
     for a in range(NAUX):
         aux[a] = 0.0
+    tabled = aux_table.shape[1] > 0
     speed_x, speed_y, lowest, deepest, finite = 0.0, 0.0, np.inf, -np.inf, True
     for j in range(columns):
+        if tabled:
+            for a in range(NAUX):
+                aux[a] = aux_table[a, NG + k, col(NG + j)]
         # x - x is 0 for a finite x and NaN for a NaN or an infinity (no fast-math): the sum is
         # 0 only if every value and wave speed of the cell is finite.
         residue = 0.0

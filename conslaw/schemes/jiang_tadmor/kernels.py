@@ -47,6 +47,8 @@ def jt_kernels(model: Model, reconstructor: Reconstructor) -> ModuleType:
         "_max_speed_y_point": model_class.max_speed_y_point,
         "_correct_point": model_class.correct_point or pointwise.unbound,
         "_slope_point": reconstructor.slope_point if custom else pointwise.slope_point,
+        "_source_point": model_class.source_point or pointwise.unbound,
+        "_resistance_point": model_class.resistance_point or pointwise.unbound,
     }
     uses = model.capabilities()
     constants = {
@@ -59,6 +61,8 @@ def jt_kernels(model: Model, reconstructor: Reconstructor) -> ModuleType:
         "MOMENTUM_Y": -1 if model.momentum_y_index is None else int(model.momentum_y_index),
         "DRY_DEPTH": float(model.dry_depth()),
         "CUSTOM_SLOPES": custom,
+        "HAS_RESISTANCE": bool(uses["resistance"]),
+        "SURFACE_METRIC": model.tangent_slope_rows is not None,
     }
     return generate(TEMPLATE, bindings, constants)  # type: ignore[arg-type]
 
@@ -101,3 +105,58 @@ def jt_bed_kernels(model: Model, reconstructor: Reconstructor) -> ModuleType:
         constants,
         imports={FLAT_TEMPLATE_MODULE: flat},
     )
+
+
+FIELD_TEMPLATE = Path(__file__).with_name("field_kernel_template.py")
+
+
+def varying_rows(model: Model) -> tuple[int, int] | None:
+    """``(first, count)`` of the coefficient rows ``model`` sets per cell and per staggered cell
+    (``varying_aux_rows``), which the field kernel takes as one run of rows; None if they are
+    not consecutive."""
+    rows = tuple(int(row) for row in model.varying_aux_rows)
+    if not rows:
+        return 0, 0
+    if rows != tuple(range(rows[0], rows[0] + len(rows))):
+        return None
+    return rows[0], len(rows)
+
+
+def jt_field_kernels(model: Model, reconstructor: Reconstructor) -> ModuleType:
+    """The Jiang–Tadmor kernels of a 2D depth-averaged model with coefficients at every point, a
+    source and a resistance: ``field_kernel_template.py`` with its import of the flat template
+    redirected to :func:`jt_kernels` of the same model and reconstructor, and the model's source,
+    resistance and coefficient hooks bound.
+
+    Parameters
+    ----------
+    model : Model
+        A 2D model the field kernel covers (:func:`~conslaw.schemes.jiang_tadmor.scheme.
+        on_field`).
+    reconstructor : Reconstructor
+        As for :func:`jt_kernels`.
+
+    Returns
+    -------
+    ModuleType
+        The generated module of ``field_kernel_template.py``.
+    """
+    model_class = type(model)
+    uses = model.capabilities()
+    rows = varying_rows(model)
+    assert rows is not None
+    bindings = {
+        "_coefficients_2d_point": model_class.coefficients_2d_point or pointwise.unbound,
+        "_corner_coefficients_point": model_class.corner_coefficients_point or pointwise.unbound,
+    }
+    tangent = model.tangent_slope_rows
+    constants = {
+        "HAS_DYNAMIC": bool(uses["dynamic_coefficients"]),
+        "HAS_INTERFACE": bool(uses["interface_coefficients"]),
+        "VARYING_FIRST": rows[0],
+        "VARYING_COUNT": rows[1],
+        "TANGENT_X": -1 if tangent is None else int(tangent[0]),
+        "TANGENT_Y": -1 if tangent is None else int(tangent[1]),
+    }
+    flat = jt_kernels(model, reconstructor)
+    return generate(FIELD_TEMPLATE, bindings, constants, imports={FLAT_TEMPLATE_MODULE: flat})

@@ -471,6 +471,12 @@ class JiangTadmorReference:
         columns + 2 GHOSTS)`` (each ghost cell's by the rule of its side)."""
         return self._aux[staggered]
 
+    def quarter_aux_padded(self, staggered: bool) -> tuple[Array, Array, Array, Array]:
+        """The coefficients at the centres of the upper-right, upper-left, lower-right and
+        lower-left quarters of every cell of one family, padded as its states (a model with
+        coefficients along x or over the field; the source of the quarter points)."""
+        return self._quarters[staggered]
+
     def family_aux(self, staggered: bool) -> Array:
         """The coefficients of the cells of one family (not padded)."""
         rows, columns = self.family_shape(staggered)

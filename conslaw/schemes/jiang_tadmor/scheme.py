@@ -39,7 +39,12 @@ from conslaw.schemes.jiang_tadmor.constants import (
     SPEED_Y,
     STATISTICS,
 )
-from conslaw.schemes.jiang_tadmor.kernels import jt_bed_kernels, jt_kernels
+from conslaw.schemes.jiang_tadmor.kernels import (
+    jt_bed_kernels,
+    jt_field_kernels,
+    jt_kernels,
+    varying_rows,
+)
 from conslaw.schemes.jiang_tadmor.reference import (
     CFL_LIMIT,
     DT_FLOOR,
@@ -69,10 +74,13 @@ def compiles(model: Model) -> bool:
     Returns
     -------
     bool
-        True if it has no resistance and no coefficients of its own, and either no bed (no
-        source, no well-balanced source, no surface reconstruction) or all three of a bed over
-        which the depth is reconstructed from the surface (:func:`over_bed`).
+        True for a model with coefficients at every point, a source and a resistance
+        (:func:`on_field`); otherwise if it has no resistance and no coefficients of its own, and
+        either no bed (no source, no well-balanced source, no surface reconstruction) or all
+        three of a bed over which the depth is reconstructed from the surface (:func:`over_bed`).
     """
+    if on_field(model):
+        return True
     uses = model.capabilities()
     if any(
         uses[key]
@@ -85,6 +93,36 @@ def compiles(model: Model) -> bool:
     ):
         return False
     return over_bed(model) or not any(uses[key] for key in BED_TERMS)
+
+
+def on_field(model: Model) -> bool:
+    """Whether ``model`` runs the compiled field kernels
+    (:func:`~conslaw.schemes.jiang_tadmor.kernels.jt_field_kernels`: Savage–Hutter on a chute
+    with a cross-slope direction or on terrain): a depth and both momenta, a source at the
+    quarter points (no well-balanced source, no surface reconstruction, no range of
+    coefficients at rest), coefficients laid out ``along-x`` or over the ``field``, and the rows
+    it sets per cell consecutive.
+
+    Parameters
+    ----------
+    model : Model
+        A 2D model.
+
+    Returns
+    -------
+    bool
+    """
+    uses = model.capabilities()
+    return (
+        uses["source"]
+        and not any(uses[key] for key in ("balanced_source", "surface", "rest_coefficients"))
+        and model.n_aux > 0
+        and model.aux_layout_2d in ("along-x", "field")
+        and model.depth_index is not None
+        and model.momentum_index is not None
+        and model.momentum_y_index is not None
+        and varying_rows(model) is not None
+    )
 
 
 def over_bed(model: Model) -> bool:
@@ -212,6 +250,8 @@ class JiangTadmor:
         }
         if over_bed(model):
             self._prepare_bed(reconstructor, padded, columns)
+        if on_field(model):
+            self._prepare_field(reconstructor, columns)
         self.states = [np.zeros(padded[False]), np.zeros(padded[True]), np.zeros(padded[False])]
         self.statistics = [np.zeros((shapes[s][0], STATISTICS)) for s in (False, True, False)]
         kinds = np.array([KINDS.index(boundaries[side]) for side in SIDES], dtype=np.int64)
@@ -252,6 +292,28 @@ class JiangTadmor:
             for s in padded
         }
 
+    def _prepare_field(self, reconstructor: Reconstructor, columns: int) -> None:
+        """The field kernels, their work array, and a coefficient bundle per direction of a
+        step (``self.fields[staggered]``: the source family's coefficients at its centres and
+        quarter points, the new family's at its centres, all padded as the states)."""
+        self.field_kernels = jt_field_kernels(self.model, reconstructor)
+        self.work = np.zeros(self.field_kernels.field_work_shape(self.chunks, columns))
+        reference = self.reference
+        self.fields = {
+            s: self.field_kernels.Field(
+                np.ascontiguousarray(reference.family_aux_padded(s)),
+                *(np.ascontiguousarray(quarter) for quarter in reference.quarter_aux_padded(s)),
+                np.ascontiguousarray(reference.family_aux_padded(not s)),
+            )
+            for s in (False, True)
+        }
+
+    def _kernel_module(self) -> Any:
+        """The generated module whose step this scheme runs (field, bed or flat)."""
+        if on_field(self.model):
+            return self.field_kernels
+        return self.bed_kernels if over_bed(self.model) else self.kernels
+
     def initial_values(self, initial: Any) -> Array | None:
         """The scheme's own initial values of a scene's initial condition, or None for the
         cell averages: still water (``initial.kind == "still-water"``) is
@@ -277,12 +339,14 @@ class JiangTadmor:
         one compile), or None for a model the kernels do not cover (numpy steps)."""
         if not self.compiled:
             return None
-        return self.bed_kernels.__name__ if over_bed(self.model) else self.kernels.__name__
+        return str(self._kernel_module().__name__)
 
     def needs_compile(self) -> bool:
         """Whether the first step compiles the kernel (it is not in numba's cache)."""
         if not self.compiled:
             return False
+        if on_field(self.model):
+            return not compiled_before(self.field_kernels, "step_family_field")
         if over_bed(self.model):
             return not compiled_before(self.bed_kernels, "step_family_bed")
         return not compiled_before(self.kernels, "step_family")
@@ -293,7 +357,7 @@ class JiangTadmor:
         need the same kernel, one compiles it): one step of length 0 on still values."""
         if not self.compiled:
             return
-        with compile_lock(self.bed_kernels if over_bed(self.model) else self.kernels):
+        with compile_lock(self._kernel_module()):
             q = np.zeros((self.model.n_vars, *self.shapes[False]))
             if self.model.depth_index is not None:
                 q[self.model.depth_index] = 1.0
@@ -393,6 +457,12 @@ class JiangTadmor:
         self._values(buffer)[...] = q
         self.kernels.fill_ghosts(self.states[buffer], rows, columns, staggered, self.sides)
         numba.set_num_threads(self.threads)
+        if on_field(self.model):
+            self.field_kernels.family_statistics_field(
+                self.states[buffer], rows, columns, self.params, self.statistics[buffer],
+                self.fields[staggered].aux,
+            )  # fmt: skip
+            return
         self.kernels.family_statistics(
             self.states[buffer], rows, columns, self.params, self.statistics[buffer]
         )
@@ -429,7 +499,12 @@ class JiangTadmor:
         step = kernels.Step(first, rows, columns, dt, self.grid.dx, self.grid.dy, deepest)
         statistics = self.statistics[target]
         numba.set_num_threads(self.threads)
-        if over_bed(self.model):
+        if on_field(self.model):
+            self.field_kernels.step_family_field(
+                self.states[source], self.states[target], self.work, statistics, self.params,
+                step, self.fields[staggered],
+            )  # fmt: skip
+        elif over_bed(self.model):
             bed = self.beds[staggered]
             w = self.states[source]
             self.bed_kernels.prepare_bed(w, bed, self.grid.dx, self.grid.dy, self.params)
@@ -460,9 +535,7 @@ class JiangTadmor:
         if self._negative_depth(end):
             self.negative_in = 2
             return False, 0.5 * dt
-        if not self.compiled and self.reference.held_at_rest(
-            self.states[0], self.states[1], self.states[2]
-        ):
+        if self.reference.held_at_rest(self._values(0), self._values(1), self._values(2)):
             self.states[2] = self.states[0].copy()
             self.statistics[2] = self.statistics[0].copy()
         return True, dt
