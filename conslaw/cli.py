@@ -530,7 +530,11 @@ def _add_quiet(parser: argparse.ArgumentParser) -> None:
 def _add_engine_options(parser: argparse.ArgumentParser) -> None:
     """Where the members of a study or calibration run: ``--scheduler``, ``--workers``."""
     parser.add_argument("--scheduler", help="a Dask scheduler address, e.g. tcp://host:8786")
-    parser.add_argument("--workers", type=int, help="local processes (default: one per core)")
+    parser.add_argument(
+        "--workers",
+        type=int,
+        help="local processes (default and at most: one per core; at most one per member)",
+    )
 
 
 def _add_ensemble(commands: Any) -> None:
@@ -548,7 +552,9 @@ def _add_ensemble(commands: Any) -> None:
     )  # fmt: skip
     study.add_argument("--samples", type=int, required=True, help="members")
     study.add_argument("--design", default="lhs", choices=DESIGNS, help="sample design (lhs)")
-    study.add_argument("--seed", type=int, default=0, help="the same seed, the same members")
+    study.add_argument(
+        "--seed", type=int, default=0, help="the same seed, the same members (0 to 2**64 - 1)"
+    )
     study.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     study.add_argument("--out", help="study folder (default conslaw-output/ensemble-SCENE)")
     study.add_argument("--resume", action="store_true", help="run only the missing members")
@@ -622,7 +628,9 @@ def _add_calibrate(commands: Any) -> None:
         help=f"standard error of an observation (default {RELATIVE_ERROR:g} of its magnitude)",
     )  # fmt: skip
     fit.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
-    fit.add_argument("--seed", type=int, default=0, help="the same seed, the same calibration")
+    fit.add_argument(
+        "--seed", type=int, default=0, help="the same seed, the same calibration (0 to 2**64 - 1)"
+    )
     fit.add_argument(
         "--coarse", type=int, help=f"members of the coarse stage ({COARSE_PER_KEY} per key)"
     )
@@ -730,7 +738,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             # numpy's floating-point warnings (an overflow in an exact solution or a bed) are
             # not for the command line: every state is checked (finite, admissible) and a
             # failure is one line. From Python they show as usual.
-            warnings.filterwarnings("ignore", category=RuntimeWarning, module=r"(numpy|conslaw)")
+            # shapely's too (an overflow in a release polygon's area): conslaw checks the result.
+            warnings.filterwarnings(
+                "ignore", category=RuntimeWarning, module=r"(numpy|conslaw|shapely)"
+            )
             if args.command in ("run", "ensemble", "calibrate") and not args.quiet:
                 from conslaw.progress import line_seconds
 
@@ -744,9 +755,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 130
     except MemoryError:
         # The run's estimate (conslaw.memory) let it start; the machine still ran out.
+        fewer = {"ensemble": "members (--samples)", "calibrate": "members (--coarse)"}
         sys.stderr.write(
-            "conslaw: error: out of memory; use fewer cells or output times (outputs already "
-            "written are complete)\n"
+            f"conslaw: error: out of memory; use fewer {fewer.get(args.command, 'cells')} or "
+            "output times (outputs already written are complete)\n"
         )
         return EXIT_INPUT
     except BrokenPipeError:

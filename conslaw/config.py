@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from conslaw import registry
-from conslaw.errors import ConfigError, finite_number, unknown_name_message
+from conslaw.errors import ConfigError, finite_number, shown, unknown_name_message
 from conslaw.grid import MAX_CELLS
 from conslaw.initial import InitialCondition
 
@@ -86,7 +86,8 @@ KEY_HELP: dict[str, str] = {
     "boundary": "table: left, right = a boundary name or { kind = ..., options }",
     "initial": "table: kind (piecewise-constant, sine) and its options",
     "output": (
-        "table: formats = files written at each output time, a list of npz (states.npz), "
+        "table: formats = files written at each output time, a list (at least one) of npz "
+        "(states.npz), "
         "xdmf (solution.xdmf + HDF5), vtu (solution-NNNNN.vtu + solution.pvd), csv "
         "(solution-NNNNN.csv, margins.csv); plot = PNG figures at the end (bool)"
     ),
@@ -233,11 +234,35 @@ def _check_nesting(text: str, what: str) -> None:
         raise ConfigError(f"{what} nests arrays or tables {deepest} deep; at most {MAX_NESTING}")
 
 
+def nesting_depth(value: Any) -> int:
+    """How deep lists, tuples and mappings nest in ``value`` (0 for a number or string),
+    counted without recursion (a dotted key 5000 parts long makes tables 5000 deep, beyond what
+    ``copy.deepcopy`` and the validation can recurse through) and only to just past
+    ``MAX_NESTING`` (a list that holds itself is not followed forever)."""
+    deepest = 0
+    pending: list[tuple[Any, int]] = [(value, 0)]
+    while pending:
+        item, depth = pending.pop()
+        if isinstance(item, Mapping):
+            children: Any = item.values()
+        elif isinstance(item, list | tuple):
+            children = item
+        else:
+            continue
+        deepest = max(deepest, depth + 1)
+        if deepest > MAX_NESTING:
+            return deepest
+        pending.extend((child, depth + 1) for child in children)
+    return deepest
+
+
 def scene_path(name_or_path: str | Path) -> tuple[str, Path]:
     """Resolve a built-in scene name or a path to a ``.toml`` file."""
     text = str(name_or_path)
     if text in registry.scenes:
         return text, registry.scenes.get(text)
+    if "\0" in text:
+        raise ConfigError(f"scene {text!r}: a file name cannot hold a NUL byte")
     path = Path(text)
     if path.suffix == ".toml":
         if not path.is_file():
@@ -271,9 +296,15 @@ def read_scene_file(path: Path) -> dict[str, Any]:
     text = scene_text(data, f"scene file '{path}'")
     _check_nesting(text, f"scene file '{path}'")
     try:
-        return copy.deepcopy(_parsed_toml(text))
+        parsed = _parsed_toml(text)
     except tomllib.TOMLDecodeError as error:
         raise ConfigError(f"scene file '{path}' is not valid TOML: {error}") from None
+    if nesting_depth(parsed) > MAX_NESTING:
+        raise ConfigError(
+            f"scene file '{path}' nests tables or arrays more than {MAX_NESTING} deep (a dotted "
+            "key of that many parts?)"
+        )
+    return copy.deepcopy(parsed)
 
 
 @functools.lru_cache(maxsize=64)
@@ -333,8 +364,18 @@ def apply_overrides(
     table is :data:`conslaw.scene2d.DEFAULTS_2D`)."""
     known = DEFAULTS if defaults is None else defaults
     result = {k: (dict(v) if isinstance(v, Mapping) else v) for k, v in table.items()}
-    for dotted, value in plain_values(dict(overrides)).items():
+    for dotted, value in dict(overrides).items():
         parts = str(dotted).split(".")
+        if len(parts) > MAX_NESTING:
+            raise ConfigError(
+                f"scene key {shown(str(dotted), 40)}: {len(parts)} parts; at most {MAX_NESTING}"
+            )
+        if nesting_depth(value) > MAX_NESTING:
+            raise ConfigError(
+                f"scene key {shown(str(dotted), 40)}: its value nests lists or tables more than "
+                f"{MAX_NESTING} deep"
+            )
+        value = plain_values(value)
         if parts[0] not in known:
             raise ConfigError(unknown_name_message("scene key", parts[0], known))
         target = result
@@ -565,6 +606,11 @@ def _output(table: Mapping[str, Any]) -> tuple[list[str], bool]:
     ):
         raise ConfigError(
             f"output.formats: expected a list of {', '.join(OUTPUT_FORMATS)}, got {formats!r}"
+        )
+    if not formats:
+        raise ConfigError(
+            f"output.formats: an empty list writes no states; give at least one of "
+            f"{', '.join(OUTPUT_FORMATS)}"
         )
     plot = output.get("plot", True)
     if not isinstance(plot, bool):

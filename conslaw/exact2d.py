@@ -162,6 +162,20 @@ def dam_break_along_normal(
     period of it (they have not met the neighbouring dam's). Otherwise
     :class:`~conslaw.exact.Unavailable` says why.
     """
+    try:
+        return _dam_break_along_normal(options, grid, context, solve, extent, momentum)
+    except (ValueError, ArithmeticError) as error:  # a Riemann solve that overflowed (g = 1e308)
+        raise Unavailable(f"the exact dam break cannot be computed ({error})") from None
+
+
+def _dam_break_along_normal(
+    options: Mapping[str, Any],
+    grid: Grid2D,
+    context: Mapping[str, Any],
+    solve: DamSolver,
+    extent: WaveExtent,
+    momentum: int | None,
+) -> AlongNormal | None:
     first, second, a, b, position, period = _dam_options(options)
     length = math.hypot(a, b)
     unit = (a / length, b / length)

@@ -88,8 +88,8 @@ KEY_HELP_2D: dict[str, str] = {
     "boundary": "table: left, right, bottom, top = periodic, outflow, wall or "
     '{ kind = "inflow", state = [...] } (a fixed state in the ghost cells)',
     "initial": "table: kind (dam-break, circle, or the model's own) and its options",
-    "output": "table: formats = a list of npz (states.npz), xdmf (solution.xdmf + HDF5, "
-    "quadrilateral cells); plot = PNG maps and cuts at the end (bool)",
+    "output": "table: formats = a list (at least one) of npz (states.npz), xdmf (solution.xdmf "
+    "+ HDF5, quadrilateral cells); plot = PNG maps and cuts at the end (bool)",
     "stop": "table: at_rest = end the run at the first output time at which the material is at "
     "rest, t_end the cap (bool; default true for a model on terrain, savage-hutter-terrain, "
     "else false; needs a model with a depth and a momentum); energy_fraction = at rest when "
@@ -298,6 +298,11 @@ def _output(value: Any) -> tuple[list[str], bool]:
     if not isinstance(formats, list) or any(f not in OUTPUT_FORMATS_2D for f in formats):
         raise ConfigError(
             f"output.formats: a 2D scene writes {', '.join(OUTPUT_FORMATS_2D)}, got {formats!r}"
+        )
+    if not formats:
+        raise ConfigError(
+            f"output.formats: an empty list writes no states; give at least one of "
+            f"{', '.join(OUTPUT_FORMATS_2D)}"
         )
     plot = output.get("plot", True)
     if not isinstance(plot, bool):

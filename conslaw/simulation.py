@@ -7,7 +7,7 @@ import signal
 import time
 from collections.abc import Callable, Mapping
 from pathlib import Path
-from typing import Any
+from typing import Any, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
@@ -15,7 +15,13 @@ from numpy.typing import NDArray
 from conslaw import registry
 from conslaw.analysis import error_norms, total_mass
 from conslaw.config import Scene, load_scene, validate
-from conslaw.errors import ConfigError, RunInterrupted, SchemeBreakdownError, StepLimitError
+from conslaw.errors import (
+    ConfigError,
+    RunInterrupted,
+    SchemeBreakdownError,
+    StepLimitError,
+    shown,
+)
 from conslaw.exact import ExactSolution, Unavailable
 from conslaw.grid import Grid
 from conslaw.memory import available_bytes, run_bytes
@@ -238,7 +244,17 @@ def kernel_label(scene: Scene, model: Model) -> str:
     return f"{scene.model}, {variant}" if variant else scene.model
 
 
-def steps_needed(scene: Scene, since: tuple[float, int], t: float, steps: int) -> float:
+class StepBudget(Protocol):
+    """What the step-limit rules read of a scene (1D or 2D): its end time and step limit."""
+
+    @property
+    def t_end(self) -> float: ...
+
+    @property
+    def max_steps(self) -> int: ...
+
+
+def steps_needed(scene: StepBudget, since: tuple[float, int], t: float, steps: int) -> float:
     """The steps a run at ``t`` after ``steps`` steps needs to reach ``t_end``, at its rate since
     ``since`` = (time, steps) of the previous check (an early transient of tiny steps does not
     count against it once the steps grow)."""
@@ -254,7 +270,7 @@ def hopeless_factor(steps: int) -> float:
     return HOPELESS_FACTOR if steps < CONFIDENT_AFTER_STEPS else CONFIDENT_FACTOR
 
 
-def cannot_finish(scene: Scene, since: tuple[float, int], t: float, steps: int) -> bool:
+def cannot_finish(scene: StepBudget, since: tuple[float, int], t: float, steps: int) -> bool:
     """Whether a run at ``t`` after ``steps`` steps would need more than ``HOPELESS_FACTOR *
     max_steps`` steps in all at its recent rate (:func:`steps_needed`; a domain far too small
     for its waves, say), or, once ``CONFIDENT_AFTER_STEPS`` steps make the rate a firm
@@ -267,7 +283,7 @@ def cannot_finish(scene: Scene, since: tuple[float, int], t: float, steps: int) 
 
 
 def step_limit_message(
-    scene: Scene, t_start: float, t: float, steps: int, early: bool = False
+    scene: StepBudget, t_start: float, t: float, steps: int, early: bool = False
 ) -> str:
     """The one line a run stopped by ``max_steps`` reports: where it stopped, its mean time step
     and how many steps the whole run would need at that rate (``early``: stopped before the
@@ -311,6 +327,19 @@ def _record(result: RunResult, state: State, margin_rows: list[Array]) -> None:
     result.mass_drift = (total_mass(state.q, grid.dx) - mass0) / np.where(scale > 0, scale, 1.0)
 
 
+def check_run_arguments(out: object, progress: object) -> None:
+    """A ConfigError, before anything runs, for an ``out`` that is not a path or a ``progress``
+    that cannot be called (``out=123`` was a TypeError, ``progress="x"`` an error mid-run)."""
+    import os
+
+    if out is not None and not isinstance(out, str | os.PathLike):
+        raise ConfigError(f"out: expected a folder (a str or Path), got {shown(out)}")
+    if progress is not None and not callable(progress):
+        raise ConfigError(
+            f"progress: expected a callable progress(t, steps), got {shown(progress)}"
+        )
+
+
 def run(
     scene: str | Path | Scene,
     out: str | Path | None = None,
@@ -337,6 +366,7 @@ def run(
     >>> result = conslaw.run("burgers-riemann", n_cells=400)   # doctest: +SKIP
     >>> result.headline_error()                                 # doctest: +SKIP
     """
+    check_run_arguments(out, progress)
     if isinstance(scene, Scene):
         if overrides:
             raise ConfigError("overrides need a scene name or file, not a Scene object")

@@ -24,6 +24,7 @@ from conslaw.peak_fields import PeakFields
 from conslaw.progress import RunProgress
 from conslaw.result2d import RunResult2D, State2D
 from conslaw.scene2d import Scene2D
+from conslaw.simulation import cannot_finish, check_run_arguments, step_limit_message
 from conslaw.stopping import RestWatch, stop_rule
 
 Array = NDArray[np.float64]
@@ -132,6 +133,7 @@ def simulate_2d(
         watch = RestWatch(rule, model, result.peaks.aux, grid.cell_area, q, scene.t_end)
     observe = _observer(model, result.peaks, progress, watch)
     reached = [0.0, 0]
+    checked = [0.0, 0]  # time and steps at the previous report
     last_output: float | None = None
 
     def report(t: float, steps: int) -> None:
@@ -140,10 +142,11 @@ def simulate_2d(
         if watch is not None:
             watch.timed(t)
         if total > scene.max_steps and t < scene.t_end:
-            raise StepLimitError(
-                f"scene key 'max_steps' = {scene.max_steps} reached: the run stopped at "
-                f"t={t:.6g} of t_end={scene.t_end:g} after {total} steps"
-            )
+            raise StepLimitError(step_limit_message(scene, 0.0, t, total))
+        # As the 1D runner: a run whose rate needs far more than max_steps stops now.
+        if cannot_finish(scene, (checked[0], int(checked[1])), t, total) and t < scene.t_end:
+            raise StepLimitError(step_limit_message(scene, 0.0, t, total, early=True))
+        checked[:] = [t, total]
         if progress is not None:
             progress(t, total)
 
@@ -267,6 +270,7 @@ def run_2d(
     """
     from conslaw.scene2d import load_scene_2d
 
+    check_run_arguments(out, progress)
     if isinstance(scene, Scene2D):
         if overrides:
             raise ConfigError("overrides need a scene name or file, not a Scene2D object")

@@ -191,6 +191,10 @@ class TableChute(Chute):
     def __init__(self, path: str | Path) -> None:
         if not isinstance(path, str | Path) or not str(path):
             raise ConfigError(f"parameters.chute_file: expected a file name, got {path!r}")
+        if "\0" in str(path):
+            raise ConfigError(
+                f"parameters.chute_file: {str(path)!r}: a name cannot hold a NUL byte"
+            )
         path = Path(path)
         if path.exists() and not path.is_file():
             # A folder, or a device such as /dev/zero that would be read forever.

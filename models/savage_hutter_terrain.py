@@ -631,7 +631,7 @@ class SavageHutterTerrain(TwoEarthPressures, TwoDimensionalRows, DepthAveragedMo
         if not math.isclose(grid.dx, grid.dy, rel_tol=1e-9):
             raise ConfigError(
                 f"n_cells: a terrain scene needs square cells for its release and maps, got "
-                f"dx = {grid.dx:g}, dy = {grid.dy:g}"
+                f"dx = {grid.dx:.15g}, dy = {grid.dy:.15g}"
             )
         x, y = grid.centres()
         elevation = self.surface.derivatives(x[None, :], y[:, None])[0]
@@ -654,5 +654,7 @@ class SavageHutterTerrain(TwoEarthPressures, TwoDimensionalRows, DepthAveragedMo
         if path:
             if not isinstance(path, str):
                 raise ConfigError(f"initial.release_file: expected a file name, got {path!r}")
-            return release_mask(dem, path, label="initial.release_file")
-        return release_polygon_mask(dem, corners, "initial.polygon")
+            return release_mask(
+                dem, path, label="initial.release_file", extent="the scene's domain"
+            )
+        return release_polygon_mask(dem, corners, "initial.polygon", "the scene's domain")

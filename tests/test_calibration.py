@@ -335,3 +335,30 @@ def test_numpy_inputs_run_and_write(truth: dict[str, Any], tmp_path: Path) -> No
     document = json.loads((tmp_path / "calibration" / "calibration.json").read_text())
     assert document["fitted"] == result.fitted
     assert result.observations[0].sigma == 0.3
+
+
+def test_a_fit_that_cannot_reach_its_observation_says_so(tmp_path: Path) -> None:
+    """A run-out of 5 (every member of delta in 20:30 runs out about 28): the best member sits
+    against the bound 30 and misses by hundreds of standard errors; the notes say both (it
+    exited 0 with ``success: true`` and no note)."""
+    fit = calibrate(SCENE, {"runout_length": 5.0}, ["parameters.delta=20:30"],
+                    settings={"n_cells": 100}, options={**OPTIONS, "plot": False},
+                    out=tmp_path, report=quiet)  # fmt: skip
+    notes = " | ".join(fit.notes)
+    assert "sits against its bound 30" in notes or "at its bound 30" in notes, notes
+    assert "misses the observations by" in notes and "standard errors" in notes, notes
+    miss = float(notes.split("misses the observations by ")[1].split()[0])
+    assert miss > 100, notes
+    written = json.loads((tmp_path / "calibration.json").read_text())
+    assert written["notes"] == fit.notes
+
+
+def test_an_information_matrix_that_underflows_gives_infinite_errors() -> None:
+    """Slopes of 1e-200 (a --tolerance of 1e308 makes them so): J^T J underflows to 0 and was
+    a numpy LinAlgError traceback; the keys are then undetermined, with infinite errors."""
+    from conslaw.ensemble.fitting import _covariance
+
+    covariance = _covariance(np.array([[1e-200], [2e-200]]))
+    assert np.isinf(covariance[0, 0])
+    regular = _covariance(np.array([[1.0], [1.0]]))
+    assert regular[0, 0] == pytest.approx(0.5)

@@ -21,8 +21,9 @@ from functools import partial
 from pathlib import Path
 from typing import Any
 
-from conslaw.config import plain_values
-from conslaw.ensemble.engine import engine_for
+from conslaw.config import MAX_NESTING, plain_values
+from conslaw.ensemble.design import MAX_SAMPLES, check_seed
+from conslaw.ensemble.engine import LocalEngine, engine_for
 from conslaw.ensemble.fitting import (
     COARSE_PER_KEY,
     MAX_EVALUATIONS,
@@ -149,6 +150,10 @@ def parse_fit(text: str) -> tuple[str, float, float]:
     ('parameters.delta', 20.0, 35.0)
     """
     key, bounds = split_pair(text, "--fit", "KEY=LOW:HIGH")
+    if key.count(".") >= MAX_NESTING:
+        raise ConfigError(
+            f"--fit {shown(key, 40)}: {key.count('.') + 1} parts; at most {MAX_NESTING}"
+        )
     parts = bounds.split(":")
     if len(parts) != 2:
         raise ConfigError(f"--fit {key}: expected LOW:HIGH, got '{bounds}'")
@@ -280,8 +285,10 @@ def _checked_options(options: Mapping[str, Any] | None, keys: int) -> dict[str, 
     chosen.setdefault("plot", True)
     if isinstance(chosen["coarse"], bool) or not isinstance(chosen["coarse"], int):
         raise ConfigError(f"--coarse: expected an integer >= 0, got {shown(chosen['coarse'])}")
-    if chosen["coarse"] < 0:
-        raise ConfigError(f"--coarse: expected an integer >= 0, got {chosen['coarse']}")
+    if not 0 <= chosen["coarse"] <= MAX_SAMPLES:
+        raise ConfigError(
+            f"--coarse: expected an integer from 0 to {MAX_SAMPLES}, got {shown(chosen['coarse'])}"
+        )
     step = parse_number(chosen["step"], "--step")
     if not 0 < step <= 0.1:
         raise ConfigError(f"--step: expected a fraction of the bounds in (0, 0.1], got {step:g}")
@@ -346,6 +353,7 @@ def calibrate(
     ConfigError
         Bad input (before any member runs), or no member of the coarse stage finished.
     """
+    seed = check_seed(seed)
     source = scene_source(scene)[0]
     chosen_settings = plain_settings(settings or {})
     observed, fit = plain_values(observed), plain_values(fit)
@@ -378,6 +386,7 @@ def _observations(
 ) -> list[Observation]:
     """The observations of the scene ``source`` (with ``settings``), each with its standard
     error (:func:`~conslaw.ensemble.observations.read_observations`)."""
+    from conslaw.grid import Grid
     from conslaw.grid2d import Grid2D
     from conslaw.scene2d import Scene2D, load_any_scene
 
@@ -389,7 +398,7 @@ def _observations(
             scene.x_min, scene.x_max, scene.nx, scene.y_min, scene.y_max, scene.ny
         )
         return read_observations(given, tolerances, 2, grid)
-    return read_observations(given, tolerances, 1, None)
+    return read_observations(given, tolerances, 1, Grid(scene.x_min, scene.x_max, scene.n_cells))
 
 
 def _on_engine(
@@ -401,6 +410,8 @@ def _on_engine(
     """The stages (:func:`_stages`) on the engine ``chosen`` names, started for them and
     stopped after (at once on an interrupt); ``members(engine=...)`` makes the members."""
     engine = engine_for(chosen.get("scheduler"), chosen.get("workers"))
+    if isinstance(engine, LocalEngine) and engine.note is not None:
+        report(engine.note)
     engine.start()
     try:
         run = members(engine=engine)
@@ -442,15 +453,38 @@ def _stages(
     return optimiser, uncertainty
 
 
+#: A best member whose weighted residuals are this many standard errors (root mean square) is
+#: not a fit: a note says so.
+FAR_MISS = 5.0
+#: A fitted value within this fraction of its range from a bound sits against it (with a
+#: best member that misses the observations by :data:`FAR_MISS`).
+NEAR_BOUND = 0.01
+
+
 def _notes(calibration: Calibration) -> list[str]:
     """What a reader of the fit should know about it."""
     notes = []
     best = calibration.best
+    count = len(best.residuals)
+    miss = math.sqrt(best.misfit / count) if count else 0.0
+    far = miss > FAR_MISS
     for key in calibration.keys:
-        where = key.unit(calibration.fitted[key.key])
+        value = calibration.fitted[key.key]
+        where = key.unit(value)
+        bound = key.low if where < 0.5 else key.high
         if min(where, 1.0 - where) < 10 * XTOL:
-            bound = key.low if where < 0.5 else key.high
             notes.append(f"{key.key} is at its bound {bound:g}: the best fit may lie beyond it")
+        elif far and min(where, 1.0 - where) < NEAR_BOUND:
+            notes.append(
+                f"{key.key} = {value:.6g} sits against its bound {bound:g}: the best fit may "
+                "lie beyond it"
+            )
+    if far:
+        notes.append(
+            f"the best member misses the observations by {miss:.3g} standard errors (root mean "
+            "square of the weighted residuals): no member matches them; check the observed "
+            "values and their --tolerance, and the bounds of --fit"
+        )
     if best.figures.get("at_boundary") == 1.0:
         notes.append(
             "the best member reached an end of the domain: its run-out is cut short "

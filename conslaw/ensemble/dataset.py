@@ -131,7 +131,8 @@ def _attributes(spec: StudySpec) -> dict[str, Any]:
         "vary": json.dumps(spec.vary),
         "design": spec.design,
         "samples": spec.samples,
-        "seed": spec.seed,
+        # As text: netCDF 3 attributes hold 32-bit integers, a seed 64 bits.
+        "seed": str(spec.seed),
         "conslaw_version": __version__,
     }
 

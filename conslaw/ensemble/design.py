@@ -17,7 +17,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from conslaw.errors import ConfigError
+from conslaw.config import MAX_NESTING
+from conslaw.errors import ConfigError, shown
 
 Array = NDArray[np.float64]
 
@@ -89,7 +90,11 @@ def parse_variation(text: str) -> Variation:
     key, separator, spec = text.partition("=")
     key = key.strip()
     if not separator or not key:
-        raise ConfigError(f"--vary expects KEY=DISTRIBUTION:ARGS, got '{text}'")
+        raise ConfigError(f"--vary expects KEY=DISTRIBUTION:ARGS, got {shown(text)}")
+    if key.count(".") >= MAX_NESTING:
+        raise ConfigError(
+            f"--vary {shown(key, 40)}: {key.count('.') + 1} parts; at most {MAX_NESTING}"
+        )
     kind, _, argument_text = spec.strip().partition(":")
     if kind not in DISTRIBUTIONS:
         known = ", ".join(f"{name}:{args}" for name, args in DISTRIBUTIONS.items())
@@ -124,6 +129,28 @@ def _check_arguments(key: str, kind: str, arguments: tuple[float, ...]) -> None:
         raise ConfigError(f"{where} with LOW < HIGH, got {arguments}")
 
 
+#: Most members of one study (each is checked, and held in memory, before anything runs).
+MAX_SAMPLES = 10_000_000
+#: Largest seed: 64 bits (numpy and scipy take larger ones, but a seed is a label to repeat a
+#: study by, and every file that keeps it holds this many bits).
+MAX_SEED = 2**64 - 1
+
+
+def check_seed(seed: object) -> int:
+    """``seed`` as an int if it is an integer from 0 to :data:`MAX_SEED`; a ConfigError naming
+    ``--seed`` otherwise (checked before anything runs: a seed numpy refuses, or one a file
+    cannot hold, would stop a study after its members ran)."""
+    import operator
+
+    try:
+        number = operator.index(seed)  # type: ignore[arg-type]
+    except TypeError:
+        number = None
+    if isinstance(seed, bool) or number is None or not 0 <= number <= MAX_SEED:
+        raise ConfigError(f"--seed: expected an integer from 0 to 2**64 - 1, got {shown(seed)}")
+    return int(number)
+
+
 def unit_points(design: str, samples: int, dimensions: int, seed: int) -> Array:
     """``samples`` points of the open unit cube ``(0, 1)^dimensions``, rows are members.
 
@@ -136,6 +163,12 @@ def unit_points(design: str, samples: int, dimensions: int, seed: int) -> Array:
         raise ConfigError(f"--design: unknown design '{design}'; known: {', '.join(DESIGNS)}")
     if samples < 1:
         raise ConfigError(f"--samples: expected an integer >= 1, got {samples}")
+    if samples > MAX_SAMPLES:
+        raise ConfigError(
+            f"--samples {shown(samples)}: at most {MAX_SAMPLES} members in one study (every "
+            "member's values, task and figures are held in memory); split it into studies with "
+            "different --seed values"
+        )
     if design == "grid":
         return _grid_points(samples, dimensions)
     from scipy.stats import qmc  # on first use: the command line imports this module

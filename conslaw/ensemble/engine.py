@@ -11,9 +11,15 @@ yet finished.
 
 from __future__ import annotations
 
+import contextlib
+import ctypes
 import multiprocessing
+import multiprocessing.connection
 import os
 import signal
+import sys
+import threading
+import time
 from collections.abc import Iterable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, as_completed, wait
 from concurrent.futures.process import BrokenProcessPool
@@ -26,17 +32,52 @@ from conslaw.ensemble.member import (
     run_member,
     run_members,
 )
-from conslaw.errors import ConfigError
+from conslaw.errors import ConfigError, shown
 
 
 class WorkerLostError(Exception):
     """The worker running a member died (out of memory, killed); the member may be run again."""
 
 
+#: ``prctl`` option: the signal this process gets when the thread that started it ends.
+_PR_SET_PDEATHSIG = 1
+#: Seconds between a local worker's looks at whether its study's process is still there.
+PARENT_POLL_SECONDS = 1.0
+
+
 def _ignore_interrupts() -> None:
-    """In a local worker: Ctrl-C is for the study (it stops submitting and keeps what is
-    done); a worker finishes its member."""
+    """The start of a local worker. Ctrl-C is for the study (it stops submitting and keeps what
+    is done); a worker finishes its member. A worker ends as soon as the study's process is
+    gone, even killed outright (``kill -9``), instead of living on as an orphan holding its
+    memory and the caller's stdout (:func:`_end_with_the_parent`)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    _end_with_the_parent()
+
+
+def _end_with_the_parent() -> None:
+    """Make this worker end when the process that started it ends: on Linux the kernel sends it
+    SIGKILL then (``prctl(PR_SET_PDEATHSIG)``: also in the middle of a compiled kernel that
+    holds the GIL); everywhere, a daemon thread waits on the parent's sentinel (and, where
+    there is no sentinel, polls the parent's pid) and ends the process once the parent is gone.
+    """
+    parent = multiprocessing.parent_process()
+    parent_pid = os.getppid()
+    if sys.platform.startswith("linux"):
+        with contextlib.suppress(OSError, AttributeError):
+            libc = ctypes.CDLL(None, use_errno=True)
+            libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+        if os.getppid() != parent_pid:  # gone before prctl took effect
+            os._exit(1)
+
+    def watch() -> None:
+        if parent is not None and parent.sentinel is not None:
+            multiprocessing.connection.wait([parent.sentinel])
+        else:
+            while os.getppid() == parent_pid:
+                time.sleep(PARENT_POLL_SECONDS)
+        os._exit(1)  # nothing to finish: the study that wanted the result is gone
+
+    threading.Thread(target=watch, name="conslaw-parent-watch", daemon=True).start()
 
 
 class LocalEngine:
@@ -45,16 +86,31 @@ class LocalEngine:
     Parameters
     ----------
     workers : int, optional
-        Processes (default: the cores this process may use).
+        Processes (default: the cores this process may use). At most one per core and one per
+        member are started (more only wait their turn, each holding a whole interpreter with
+        its kernels); :attr:`note` says so when ``workers`` asked for more.
+    members : int, optional
+        The members to run, if known.
     """
 
     name = "local"
 
-    def __init__(self, workers: int | None = None) -> None:
-        if workers is not None and workers < 1:
-            raise ConfigError(f"--workers: expected an integer >= 1, got {workers}")
-        cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else None
-        self.workers = workers or cores or os.cpu_count() or 1
+    def __init__(self, workers: int | None = None, members: int | None = None) -> None:
+        if workers is not None and (
+            isinstance(workers, bool) or not isinstance(workers, int) or workers < 1
+        ):
+            raise ConfigError(f"--workers: expected an integer >= 1, got {shown(workers)}")
+        affinity = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else None
+        cores = affinity or os.cpu_count() or 1
+        cap = min(cores, max(members, 1)) if members is not None else cores
+        self.workers = min(workers or cores, cap)
+        #: Why fewer workers than asked start (None: as many as asked).
+        self.note: str | None = None
+        if workers is not None and workers > self.workers:
+            each = f"one per core this process may use ({cores})"
+            if members is not None:
+                each += f" and one per member ({members})"
+            self.note = f"--workers {shown(workers)}: starting {self.workers}, at most {each}"
         self._pool: ProcessPoolExecutor | None = None
 
     def start(self) -> None:
@@ -225,10 +281,13 @@ class DaskEngine:
         self.stop(wait=False)
 
 
-def engine_for(scheduler: Any = None, workers: int | None = None) -> LocalEngine | DaskEngine:
-    """:class:`DaskEngine` for a scheduler, else :class:`LocalEngine` with ``workers``."""
+def engine_for(
+    scheduler: Any = None, workers: int | None = None, members: int | None = None
+) -> LocalEngine | DaskEngine:
+    """:class:`DaskEngine` for a scheduler, else :class:`LocalEngine` with ``workers`` (for
+    ``members`` members, if known)."""
     if scheduler is not None:
         if workers is not None:
             raise ConfigError("--workers is for the local engine; a Dask cluster has its own")
         return DaskEngine(scheduler)
-    return LocalEngine(workers)
+    return LocalEngine(workers, members)

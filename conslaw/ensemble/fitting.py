@@ -480,7 +480,11 @@ def _covariance(jacobian: Array) -> Array:
     if np.linalg.matrix_rank(part) < known.size:
         covariance[np.ix_(known, known)] = math.inf
         return covariance
-    covariance[np.ix_(known, known)] = np.linalg.inv(information)
+    try:
+        inverse = np.linalg.inv(information)
+    except np.linalg.LinAlgError:  # J^T J underflowed (a --tolerance of 1e308): no information
+        inverse = np.full(information.shape, math.inf)
+    covariance[np.ix_(known, known)] = inverse
     return covariance
 
 

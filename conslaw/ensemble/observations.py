@@ -13,6 +13,7 @@ that their slopes give the linearised uncertainty (Gauss–Newton; docs/calibrat
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -128,6 +129,34 @@ def parse_number(text: Any, where: str) -> float:
     return number
 
 
+def possible_range(name: str, dimension: int, grid: Any) -> tuple[float, float, str]:
+    """The values a summary figure ``name`` of a scene on ``grid`` can take, ``(low, high,
+    why)``: a margin or a centre of mass lies in the domain, a run-out length between 0 and the
+    domain's length (1D, along the chute) or diagonal (2D), a travel angle in (-90, 90)
+    degrees, a peak depth or speed is >= 0; ``(-inf, inf, "")`` where nothing bounds it (the
+    drop) or the grid is not known."""
+    inf = math.inf
+    if name == "travel_angle":
+        return -90.0, 90.0, "a travel angle lies in (-90, 90) degrees"
+    if name in ("max_depth", "max_speed"):
+        return 0.0, inf, f"a {name.replace('_', ' ')} is >= 0"
+    if grid is None:
+        return -inf, inf, ""
+    x_axis = grid.x if dimension == 2 else grid
+    x_range = (float(x_axis.x_min), float(x_axis.x_max))
+    if name in ("front", "rear", "deposit_centre", "deposit_x"):
+        return *x_range, f"it lies in the domain, x in [{x_range[0]:g}, {x_range[1]:g}]"
+    if name == "deposit_y":
+        low, high = float(grid.y.x_min), float(grid.y.x_max)
+        return low, high, f"it lies in the domain, y in [{low:g}, {high:g}]"
+    if name == "runout_length":
+        length = x_range[1] - x_range[0]
+        if dimension == 2:
+            length = math.hypot(length, float(grid.y.x_max - grid.y.x_min))
+        return 0.0, length, f"a run-out lies between 0 and the domain's extent {length:g}"
+    return -inf, inf, ""
+
+
 def read_observations(
     observed: Mapping[str, Any],
     tolerance: Mapping[str, Any],
@@ -172,6 +201,10 @@ def read_observations(
     for name, given in observed.items():
         deposit = read_deposit(Path(given), dimension, grid) if name == DEPOSIT else None
         value = math.nan if deposit is not None else parse_number(given, f"--observed {name}")
+        low, high, why = possible_range(name, dimension, grid)
+        inside = low < value < high if name == "travel_angle" else low <= value <= high
+        if deposit is None and not inside:
+            raise ConfigError(f"--observed {name}={value:g}: no member can match it ({why})")
         magnitude = deposit.magnitude if deposit is not None else abs(value)
         sigma = RELATIVE_ERROR * magnitude
         if name in tolerance:
@@ -209,12 +242,17 @@ def read_deposit(path: Path, dimension: int, grid: Any) -> Deposit:
         Naming the file: missing, not a table or raster, or no depth.
     """
     where = f"--observed deposit: '{path}'"
+    if "\0" in str(path):
+        raise ConfigError(f"{where}: a file name cannot hold a NUL byte")
     if not path.is_file():
-        raise ConfigError(f"{where}: no such file")
+        raise ConfigError(f"{where}: {'a folder, not a file' if path.is_dir() else 'no such file'}")
     if dimension == 2:
         return _read_raster_deposit(path, where, grid)
     try:
-        table = np.genfromtxt(path, delimiter=",", dtype=float, skip_header=_header_lines(path))
+        with warnings.catch_warnings():  # an empty file: the check below says so in one line
+            warnings.simplefilter("ignore", UserWarning)
+            skip = _header_lines(path)
+            table = np.genfromtxt(path, delimiter=",", dtype=float, skip_header=skip)
     except (OSError, ValueError) as error:
         raise ConfigError(f"{where}: not a CSV table of x, depth ({error})") from None
     table = np.atleast_2d(table)

@@ -11,6 +11,7 @@ study writes into it, so that two studies never mix their members.
 
 from __future__ import annotations
 
+import hashlib
 import io
 import json
 import os
@@ -20,8 +21,8 @@ from typing import Any
 
 import numpy as np
 
-from conslaw.ensemble.member import MemberOutcome
-from conslaw.errors import ConfigError
+from conslaw.ensemble.member import STATUSES, MemberOutcome
+from conslaw.errors import ConfigError, shown
 from conslaw.output.files import atomic_write_bytes, hold_folder, prepare_output_dir
 
 SPEC_FILE = "study.json"
@@ -80,12 +81,17 @@ class StudySpec:
         return json.dumps(asdict(self), indent=2, sort_keys=True) + "\n"
 
     @classmethod
-    def from_json(cls, text: str, where: Path) -> StudySpec:
-        """Read ``study.json``; a ConfigError naming the file if it is not one."""
+    def from_json(cls, data: bytes, where: Path) -> StudySpec:
+        """Read ``study.json`` (its bytes); a ConfigError naming the file and the first field
+        that is not what a study writes (:func:`_spec_fields`)."""
         try:
-            return cls(**json.loads(text))
-        except (ValueError, TypeError) as error:
-            raise ConfigError(f"'{where}' is not a conslaw study description ({error})") from None
+            fields = _spec_fields(json.loads(data.decode("utf-8")))
+        except (ValueError, TypeError, RecursionError) as error:
+            raise ConfigError(
+                f"'{where}' is damaged ({error}): restore it, or move the folder aside and run "
+                "the study again"
+            ) from None
+        return cls(**fields)
 
     def difference(self, other: StudySpec) -> str | None:
         """The first field in which ``other`` asks for another study, as text, or None."""
@@ -96,8 +102,49 @@ class StudySpec:
         return None
 
 
+#: The fields of ``study.json``: the types each may hold, and how to say so.
+_SPEC_TYPES: dict[str, tuple[tuple[type, ...], str]] = {
+    "scene": ((str,), "a string"), "settings": ((dict,), "an object"),
+    "vary": ((list,), "a list"), "design": ((str,), "a string"), "samples": ((int,), "an integer"),
+    "seed": ((int,), "an integer"), "fields": ((bool,), "true or false"),
+    "depth_threshold": ((float, int, type(None)), "a number or null"),
+    "scene_sha256": ((str,), "a string"), "versions": ((dict,), "an object"),
+    "extra": ((dict,), "an object"),
+}  # fmt: skip
+
+
+def _spec_fields(document: Any) -> dict[str, Any]:
+    """The fields of a ``study.json`` document, each of its type; a ValueError naming the first
+    that is missing, unknown or of another type."""
+    if not isinstance(document, dict):
+        raise ValueError(f"expected a JSON object, got {type(document).__name__}")
+    for key in document:
+        if key not in _SPEC_TYPES:
+            raise ValueError(f"unknown field {shown(key)}")
+    for key, (types, expected) in _SPEC_TYPES.items():
+        if key not in document:
+            raise ValueError(f"field '{key}' missing")
+        value = document[key]
+        if not isinstance(value, types) or (isinstance(value, bool) and bool not in types):
+            raise ValueError(f"{key}: expected {expected}, got {shown(value)}")
+    if not all(isinstance(text, str) for text in document["vary"]):
+        raise ValueError(f"vary: expected a list of strings, got {shown(document['vary'])}")
+    return document
+
+
+#: The fields of a journal line, in the order they are written (``check`` last).
+_LINE_FIELDS = ("member", "status", "message", "digest", "wall_seconds", "worker", "summary")
+
+
+def line_check(record: dict[str, Any]) -> str:
+    """The check of a journal line: the first 16 hex digits of the SHA-256 of its other fields
+    as JSON (sorted keys), so that a line changed after it was written is found."""
+    text = json.dumps(record, sort_keys=True, allow_nan=True)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
 def _outcome_line(outcome: MemberOutcome) -> str:
-    record = {
+    record: dict[str, Any] = {
         "member": outcome.index,
         "status": outcome.status,
         "message": outcome.message,
@@ -106,14 +153,42 @@ def _outcome_line(outcome: MemberOutcome) -> str:
         "worker": outcome.worker,
         "summary": outcome.summary,
     }
+    record["check"] = line_check(record)
     return json.dumps(record, allow_nan=True) + "\n"
 
 
-def _outcome_from(record: dict[str, Any]) -> MemberOutcome:
-    summary = {key: float(value) for key, value in record["summary"].items()}
+def _outcome_from(line: bytes, samples: int) -> MemberOutcome:
+    """A journal line's member; a ValueError saying how the line is damaged (not UTF-8, not
+    JSON, a field missing or of another type, its check not matching, a member beyond the
+    study)."""
+    record = json.loads(line.decode("utf-8"))
+    if not isinstance(record, dict):
+        raise ValueError(f"expected a JSON object, got {type(record).__name__}")
+    unknown = set(record) - {*_LINE_FIELDS, "check"}
+    missing = [key for key in (*_LINE_FIELDS, "check") if key not in record]
+    if unknown or missing:
+        raise ValueError(
+            f"field {shown(sorted(unknown or missing)[0])} {'unknown' if unknown else 'missing'}"
+        )
+    check = record.pop("check")
+    if check != line_check(record):
+        raise ValueError("its check does not match its content")
+    member, summary = record["member"], record["summary"]
+    if not (isinstance(member, int) and not isinstance(member, bool) and 0 <= member < samples):
+        raise ValueError(f"member {shown(member)} is not one of the study's 0 to {samples - 1}")
+    if record["status"] not in STATUSES or record["status"] == "pending":
+        raise ValueError(f"status {shown(record['status'])} unknown")
+    if not all(isinstance(record[key], str) for key in ("message", "digest", "worker")):
+        raise ValueError("message, digest and worker must be strings")
+    numbers = [record["wall_seconds"], *(summary.values() if isinstance(summary, dict) else [])]
+    if not isinstance(summary, dict) or not all(
+        isinstance(value, float | int) and not isinstance(value, bool) for value in numbers
+    ):
+        raise ValueError("wall_seconds and the summary figures must be numbers")
     return MemberOutcome(
-        int(record["member"]), str(record["status"]), str(record["message"]),
-        summary, str(record["digest"]), float(record["wall_seconds"]), str(record["worker"]),
+        member, record["status"], record["message"],
+        {str(key): float(value) for key, value in summary.items()}, record["digest"],
+        float(record["wall_seconds"]), record["worker"],
     )  # fmt: skip
 
 
@@ -129,6 +204,8 @@ class StudyFolder:
         self.folder = Path(folder)
         self._hold: int | None = None
         self._journal: io.TextIOWrapper | None = None
+        #: Journal lines skipped as damaged on opening: (line number, why).
+        self.damaged: list[tuple[int, str]] = []
 
     @property
     def spec_path(self) -> Path:
@@ -158,8 +235,8 @@ class StudyFolder:
         return done
 
     def _start(self, spec: StudySpec, resume: bool) -> dict[int, MemberOutcome]:
-        if self.spec_path.exists():
-            stored = StudySpec.from_json(self.spec_path.read_text(), self.spec_path)
+        if self.spec_path.exists() or self.spec_path.is_symlink():
+            stored = StudySpec.from_json(self._read(self.spec_path), self.spec_path)
             if not resume:
                 raise ConfigError(
                     f"output folder '{self.folder}' holds a study already: add --resume to "
@@ -170,7 +247,7 @@ class StudyFolder:
                 raise ConfigError(
                     f"--resume: the study in '{self.folder}' was asked differently ({changed})"
                 )
-            return self._read_journal()
+            return self._read_journal(spec.samples)
         if resume:
             raise ConfigError(f"--resume: no study in '{self.folder}' ({SPEC_FILE} missing)")
         if any(self.folder.iterdir()):
@@ -181,26 +258,49 @@ class StudyFolder:
         atomic_write_bytes(self.spec_path, spec.to_json().encode())
         return {}
 
-    def _read_journal(self) -> dict[int, MemberOutcome]:
-        """The members of the journal; a last line cut short is cut off the file."""
-        if not self.journal_path.exists():
+    def _read(self, path: Path) -> bytes:
+        """The bytes of one of the study's files; a ConfigError naming it if it cannot be read
+        (a folder in its place, no permission)."""
+        try:
+            return path.read_bytes()
+        except OSError as error:
+            raise ConfigError(
+                f"cannot read '{path}' ({error.strerror or error}): restore it, or move the "
+                "folder aside and run the study again"
+            ) from None
+
+    def _read_journal(self, samples: int) -> dict[int, MemberOutcome]:
+        """The members of the journal. A last line cut short (a killed process) is cut off the
+        file; any other line that is not one the study wrote (:func:`_outcome_from`) is
+        skipped and kept in :attr:`damaged` as ``(line number, why)``: its member runs
+        again."""
+        if not (self.journal_path.exists() or self.journal_path.is_symlink()):
             return {}
-        data = self.journal_path.read_bytes()
+        data = self._read(self.journal_path)
         complete = data[: data.rfind(b"\n") + 1]
         if len(complete) != len(data):
             with open(self.journal_path, "r+b") as stream:
                 stream.truncate(len(complete))
         done: dict[int, MemberOutcome] = {}
-        for number, line in enumerate(complete.decode("utf-8").splitlines(), 1):
+        for number, line in enumerate(complete.splitlines(), 1):
             try:
-                outcome = _outcome_from(json.loads(line))
-            except (ValueError, KeyError, TypeError):
-                raise ConfigError(
-                    f"'{self.journal_path}' line {number} is damaged: move the folder aside "
-                    "and run the study again"
-                ) from None
+                outcome = _outcome_from(line, samples)
+            except (ValueError, TypeError, RecursionError, ArithmeticError) as error:
+                self.damaged.append((number, str(error).splitlines()[0][:200]))
+                continue
             done[outcome.index] = outcome
         return done
+
+    def damage_note(self) -> str | None:
+        """One line on the damaged journal lines skipped by :meth:`open`, or None."""
+        if not self.damaged:
+            return None
+        number, why = self.damaged[0]
+        more = f"; {len(self.damaged) - 1} more" if len(self.damaged) > 1 else ""
+        return (
+            f"{self.journal_path.name}: skipped {len(self.damaged)} damaged line(s) (line "
+            f"{number}: {why}{more}); a member without an intact line runs again"
+        )
 
     def record(self, outcome: MemberOutcome) -> None:
         """Keep a finished member: its maps first (atomically), then its journal line."""

@@ -24,7 +24,7 @@ from numpy.typing import NDArray
 from conslaw import signals
 from conslaw.config import plain_values
 from conslaw.ensemble.dataset import build_dataset, check_format, write_dataset
-from conslaw.ensemble.design import Variation, draw, parse_variation
+from conslaw.ensemble.design import Variation, check_seed, draw, parse_variation
 from conslaw.ensemble.engine import DaskEngine, LocalEngine, WorkerLostError, engine_for
 from conslaw.ensemble.member import MemberOutcome, MemberTask
 from conslaw.ensemble.store import StudyFolder, StudySpec
@@ -341,6 +341,49 @@ def _variations(vary: Sequence[str | Variation]) -> list[Variation]:
     return [v if isinstance(v, Variation) else parse_variation(v) for v in vary]
 
 
+def _check_not_set(settings: Mapping[str, Any], variations: Sequence[Variation]) -> None:
+    """A ConfigError for a varied key that ``--set`` sets too (the same key, a table holding it,
+    or a key inside it): the members would run the varied values while the study recorded the
+    ``--set`` one."""
+    for variation in variations:
+        for key, value in settings.items():
+            inside = key.startswith(variation.key + ".")
+            holds = variation.key.startswith(key + ".")
+            node = value
+            for part in variation.key[len(key) + 1 :].split(".") if holds else []:
+                node = node.get(part, _ABSENT) if isinstance(node, Mapping) else _ABSENT
+            if key == variation.key or inside or (holds and node is not _ABSENT):
+                raise ConfigError(
+                    f"--vary {variation.key}: --set {key} sets it too; a varied key takes its "
+                    "values from --vary only: drop one of them"
+                )
+
+
+_ABSENT = object()
+
+
+def _study_spec(
+    scene: str | Path,
+    vary: Sequence[str | Variation],
+    drawn: tuple[str, int, int],
+    settings: Mapping[str, Any] | None,
+    chosen: Mapping[str, Any],
+) -> tuple[StudySpec, list[Variation]]:
+    """The study's spec and variations, each checked before anything runs: the seed, the
+    scene, the keys set and varied (none both), the maps kept."""
+    design, samples, seed = drawn
+    source, digest = scene_source(scene)
+    spec = StudySpec(
+        source, plain_settings(settings or {}), [], design, int(samples), check_seed(seed),
+        bool(chosen.get("fields", False)), chosen.get("depth_threshold"), digest,
+    )  # fmt: skip
+    variations = _variations(vary)
+    _check_not_set(spec.settings, variations)
+    spec.vary.extend(v.text for v in variations)
+    _check_fields(spec, variations)
+    return spec, variations
+
+
 def run_study(
     scene: str | Path,
     vary: Sequence[str | Variation],
@@ -389,16 +432,11 @@ def run_study(
         A signal stopped it; every finished member is kept.
     """
     chosen, file_format = _options(options)
-    source, digest = scene_source(scene)
-    spec = StudySpec(
-        source, plain_settings(settings or {}), [], design, int(samples), int(seed),
-        bool(chosen.get("fields", False)), chosen.get("depth_threshold"), digest,
-    )  # fmt: skip
-    variations = _variations(vary)
-    spec.vary.extend(v.text for v in variations)
-    _check_fields(spec, variations)
-    values = draw(variations, design, int(samples), int(seed))
-    engine = engine_for(chosen.get("scheduler"), chosen.get("workers"))
+    spec, variations = _study_spec(scene, vary, (design, samples, seed), settings, chosen)
+    values = draw(variations, design, int(samples), spec.seed)
+    engine = engine_for(chosen.get("scheduler"), chosen.get("workers"), int(samples))
+    if isinstance(engine, LocalEngine) and engine.note is not None:
+        report(engine.note)
     first = member_tasks(spec, variations, values[:1])[0][0]
     # The workers start (and load the first member's kernels) while the members are checked.
     engine.start()
@@ -410,6 +448,9 @@ def run_study(
             _warm([scene for _, scene in checked], report)
             folder = StudyFolder(Path(out))
             done = folder.open(spec, bool(chosen.get("resume", False)))
+            note = folder.damage_note()
+            if note is not None:
+                report(note)
             try:
                 return _run(spec, (variations, values), checked, done, folder, engine,
                             (file_format, latch), report)  # fmt: skip

@@ -113,10 +113,18 @@ class OutputCommit:
         self._staged.clear()
 
 
+def _check_no_nul(folder: Path) -> None:
+    """A ConfigError for a folder name holding a NUL byte (no file system takes one; Python's
+    file functions raise ValueError)."""
+    if "\0" in str(folder):
+        raise ConfigError(f"output directory {str(folder)!r}: a name cannot hold a NUL byte")
+
+
 def check_output_dir(folder: Path) -> Path:
     """Check, without creating anything, that ``folder`` exists as a writable folder or can be
     created (its nearest existing ancestor is a writable folder)."""
     folder = Path(folder)
+    _check_no_nul(folder)
     probe = folder
     try:
         os.stat(folder)
@@ -138,6 +146,9 @@ def check_output_dir(folder: Path) -> Path:
 def prepare_output_dir(folder: Path) -> Path:
     """Create ``folder`` if needed and check that it is writable, before any work is done."""
     folder = Path(folder)
+    _check_no_nul(folder)
+    if folder.exists() and not folder.is_dir():
+        raise ConfigError(f"output directory '{folder}' is a file, not a folder")
     try:
         folder.mkdir(parents=True, exist_ok=True)
         with tempfile.NamedTemporaryFile(dir=folder, prefix=".probe-"):

@@ -126,6 +126,10 @@ def start_from_end(end: float, extent: float) -> float:
 
 def raster_driver(path: Path, where: str) -> str:
     """The GDAL driver for ``path`` by its suffix, after checking that it is an existing file."""
+    if "\0" in str(path):
+        raise ConfigError(f"{where}: a file name cannot hold a NUL byte")
+    if path.is_dir():  # not "unsupported file type ''" for a folder without a suffix
+        raise ConfigError(f"{where}: a folder, not a file")
     driver = RASTER_DRIVERS.get(path.suffix.lower())
     if driver is None:
         allowed = ", ".join(sorted(RASTER_DRIVERS))
@@ -220,7 +224,7 @@ def _oriented(
         raise ConfigError(f"{where}: degenerate transform (cell widths {a:g} and {e:g})")
     if not math.isclose(abs(a), abs(e), rel_tol=SQUARE_TOLERANCE):
         raise ConfigError(
-            f"{where}: cells are not square (dx={abs(a):g}, dy={abs(e):g}); resample it to "
+            f"{where}: cells are not square (dx={abs(a):.15g}, dy={abs(e):.15g}); resample it to "
             "square cells"
         )
     cell_size = abs(a)
@@ -235,6 +239,12 @@ def _oriented(
         x_min = start_from_end(c, nx * cell_size)
     else:
         x_min = c
+    corners = (x_min, y_min, x_min + nx * cell_size, y_min + ny * cell_size)
+    if not all(math.isfinite(value) for value in corners):  # was "y_min: ... got nan"
+        raise ConfigError(
+            f"{where}: its extent overflows ({nx} x {ny} cells of {cell_size:g} from "
+            f"{c:.12g}, {f:.12g}); check its cell size and corner"
+        )
     return x_min, y_min, cell_size, values, missing
 
 

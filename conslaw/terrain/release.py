@@ -39,7 +39,11 @@ _GEOJSON_NOTE = " (a GeoJSON file without a 'crs' member is WGS 84 by RFC 7946)"
 
 
 def release_mask(
-    dem: DigitalElevationModel, path: str | Path, *, label: str = "release file"
+    dem: DigitalElevationModel,
+    path: str | Path,
+    *,
+    label: str = "release file",
+    extent: str = "the DEM",
 ) -> NDArray[np.bool_]:
     """The released cells of ``dem``, ``(ny, nx)`` (y ascending), from a release file.
 
@@ -54,6 +58,9 @@ def release_mask(
         size and CRS): released where nonzero and not no-data.
     label : str
         How messages name the file: ``"<label> '<path>': <cause>"``.
+    extent : str
+        How messages name the rectangle of ``dem`` (``"the scene's domain"`` where ``dem`` is
+        the terrain on a scene's cells).
 
     Returns
     -------
@@ -72,22 +79,28 @@ def release_mask(
     path = Path(path)
     where = f"{label} '{path}'"
     suffix = path.suffix.lower()
+    if "\0" in str(path):
+        raise ConfigError(f"{where}: a file name cannot hold a NUL byte")
+    if path.is_dir():  # not "unsupported file type ''" for a folder without a suffix
+        raise ConfigError(f"{where}: a folder, not a file")
     if suffix in RASTER_DRIVERS:
-        return _raster_mask(dem, read_raster(path, where), where)
+        return _raster_mask(dem, read_raster(path, where), where, extent)
     if suffix in POLYGON_FORMATS:
-        return _polygon_mask(dem, path, where)
+        return _polygon_mask(dem, path, where, extent)
     allowed = ", ".join(sorted({*POLYGON_FORMATS, *RASTER_DRIVERS}))
     raise ConfigError(f"{where}: unsupported file type '{path.suffix}'; allowed: {allowed}")
 
 
-def _polygon_mask(dem: DigitalElevationModel, path: Path, where: str) -> NDArray[np.bool_]:
+def _polygon_mask(
+    dem: DigitalElevationModel, path: Path, where: str, extent: str
+) -> NDArray[np.bool_]:
     """The cells whose centres lie inside the polygons of ``path``."""
     polygons = read_polygons(path, where)
     geojson = POLYGON_FORMATS[path.suffix.lower()] == "GeoJSON"
     note = _GEOJSON_NOTE if geojson and polygons.crs == "EPSG:4326" else ""
     check_same_crs(polygons.crs, dem.crs, where, note)
     area = polygons.area
-    _check_inside_dem(area, dem, where)
+    _check_inside_dem(area, dem, where, extent)
     mask = centres_inside(area, dem)
     if not mask.any():
         minx, miny, maxx, maxy = area.bounds
@@ -105,16 +118,24 @@ def _extent(bounds: tuple[float, float, float, float]) -> str:
     return f"x {minx:.12g}..{maxx:.12g}, y {miny:.12g}..{maxy:.12g}"
 
 
-def _check_inside_dem(area: shapely.Geometry, dem: DigitalElevationModel, where: str) -> None:
-    """A ConfigError if the release area is not entirely inside the DEM's rectangle."""
-    extent = shapely.box(dem.x_min, dem.y_min, dem.x_max, dem.y_max)
-    places = f"release {_extent(area.bounds)}; DEM {_extent(extent.bounds)}"
-    if not shapely.intersects(area, extent):
-        raise ConfigError(f"{where}: the release lies entirely outside the DEM ({places})")
-    outside = shapely.difference(area, extent).area / area.area
-    if outside > OUTSIDE_TOLERANCE:
+def _check_inside_dem(
+    area: shapely.Geometry, dem: DigitalElevationModel, where: str, name: str = "the DEM"
+) -> None:
+    """A ConfigError if the release area is not entirely inside the rectangle of ``dem`` (named
+    ``name`` in the message: the DEM, or the scene's domain), or so large that its area
+    overflows (the share outside would be NaN and pass unseen)."""
+    box = shapely.box(dem.x_min, dem.y_min, dem.x_max, dem.y_max)
+    short = name.removeprefix("the ").removeprefix("scene's ")
+    places = f"release {_extent(area.bounds)}; {short} {_extent(box.bounds)}"
+    with np.errstate(all="ignore"):  # an overflow is what the checks below report
+        if not math.isfinite(area.area):
+            raise ConfigError(f"{where}: its area overflows ({places}); check its coordinates")
+        if not shapely.intersects(area, box):
+            raise ConfigError(f"{where}: the release lies entirely outside {name} ({places})")
+        outside = shapely.difference(area, box).area / area.area
+    if not outside <= OUTSIDE_TOLERANCE:
         raise ConfigError(
-            f"{where}: {100.0 * outside:.3g}% of the release area lies outside the DEM ({places})"
+            f"{where}: {100.0 * outside:.3g}% of the release area lies outside {name} ({places})"
         )
 
 
@@ -133,13 +154,17 @@ def centres_inside(area: shapely.Geometry, dem: DigitalElevationModel) -> NDArra
     return mask
 
 
-def _raster_mask(dem: DigitalElevationModel, band: RasterBand, where: str) -> NDArray[np.bool_]:
-    """The cells of a raster mask on the DEM's cells that are nonzero and not no-data."""
+def _raster_mask(
+    dem: DigitalElevationModel, band: RasterBand, where: str, extent: str = "the DEM"
+) -> NDArray[np.bool_]:
+    """The cells of a raster mask on the cells of ``dem`` (named ``extent`` in messages) that
+    are nonzero and not no-data."""
+    owner = "the DEM" if extent == "the DEM" else "the scene"
     check_same_crs(band.crs, dem.crs, where)
     if band.shape != dem.shape:
         raise ConfigError(
-            f"{where}: has {band.shape[0]} x {band.shape[1]} cells (rows x columns), the DEM "
-            f"{dem.ny} x {dem.nx}; a release raster must be on the DEM's cells"
+            f"{where}: has {band.shape[0]} x {band.shape[1]} cells (rows x columns), {owner} "
+            f"{dem.ny} x {dem.nx}; a release raster must be on {owner}'s cells"
         )
     tolerance = ALIGNMENT_TOLERANCE * dem.cell_size
     if (
@@ -148,8 +173,8 @@ def _raster_mask(dem: DigitalElevationModel, band: RasterBand, where: str) -> ND
         or not math.isclose(band.cell_size, dem.cell_size, rel_tol=ALIGNMENT_TOLERANCE)
     ):
         raise ConfigError(
-            f"{where}: not on the DEM's cells (south-west corner "
-            f"{map_location(band.x_min, band.y_min)}, cell size {band.cell_size:g}; the DEM's "
+            f"{where}: not on {owner}'s cells (south-west corner "
+            f"{map_location(band.x_min, band.y_min)}, cell size {band.cell_size:g}; {owner}'s "
             f"{map_location(dem.x_min, dem.y_min)}, {dem.cell_size:g})"
         )
     bad = ~np.isfinite(band.values) & ~band.missing
@@ -220,7 +245,7 @@ def release_thickness(
 
 
 def release_polygon_mask(
-    dem: DigitalElevationModel, corners: object, where: str
+    dem: DigitalElevationModel, corners: object, where: str, extent: str = "the DEM"
 ) -> NDArray[np.bool_]:
     """The released cells of ``dem`` inside the polygon with the vertices ``corners``, a list
     of ``[x, y]`` pairs in the DEM's map coordinates (at least three).
@@ -231,6 +256,8 @@ def release_polygon_mask(
     corners : list of [x, y]
     where : str
         How messages name the polygon (a scene key).
+    extent : str
+        How messages name the rectangle of ``dem`` (:func:`release_mask`).
 
     Returns
     -------
@@ -252,7 +279,7 @@ def release_polygon_mask(
     area = shapely.Polygon(points)
     if not area.is_valid or area.area <= 0.0:
         raise ConfigError(f"{where}: not a valid polygon ({shapely.is_valid_reason(area)})")
-    _check_inside_dem(area, dem, where)
+    _check_inside_dem(area, dem, where, extent)
     mask = centres_inside(area, dem)
     if not mask.any():
         raise ConfigError(
