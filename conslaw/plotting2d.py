@@ -102,13 +102,12 @@ def write_figures_2d(result: RunResult2D, folder: Path) -> list[Path]:
     ]
     maps = hazard_maps(result)
     if maps is not None:
-        # Drawn where the flow reached (the run-out's depth threshold); the GeoTIFFs hold all.
-        reached = maps.fields[0].values >= REACHED_DEPTH
+        # Drawn on the cells the GeoTIFFs hold (those the flow reached, the deposit's where
+        # flow is left: the run-out's depth threshold above any initial layer).
         for field in maps.fields:
-            shown = field.values >= REACHED_DEPTH if field.stem == "deposit" else reached
             figure = hazard_map_figure(
                 maps.dem,
-                np.where(shown, field.values, 0.0),
+                np.where(field.valid, field.values, 0.0),
                 label=f"{field.name} ({field.units})",
                 release_mask=maps.released,
                 threshold=0.0,

@@ -177,3 +177,30 @@ def test_a_terrain_formula_is_noted_and_without_geotiffs_nothing_is_said(
     printed = capsys.readouterr().out
     assert "CRS" not in printed and "volume per map area H" in printed
     assert not list((tmp_path / "b").glob("*.tif"))
+
+
+def test_the_map_figures_show_the_cells_the_rasters_hold(
+    layered: tuple[RunResult2D, Path], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Each hazard PNG draws its field on exactly the cells its GeoTIFF holds (over a layer
+    of 2 cm the reached cells are those 1 cm above it, not every cell 1 cm deep), with the
+    run's values there and nothing elsewhere."""
+    import conslaw.plotting2d as plotting2d
+
+    result, out = layered
+    drawn: list[np.ndarray] = []
+    draw = plotting2d.hazard_map_figure
+
+    def recorded(dem: object, values: np.ndarray, **options: object) -> object:
+        drawn.append(np.array(values))
+        return draw(dem, values, **options)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(plotting2d, "hazard_map_figure", recorded)
+    plotting2d.write_figures_2d(result, tmp_path)
+    assert len(drawn) == len(STEMS)
+    for stem, values in zip(STEMS, drawn, strict=True):
+        _, band = geotiff(out / f"{stem}.tif")
+        valid = ~np.ma.getmaskarray(band)
+        np.testing.assert_array_equal(values != 0.0, valid & (band.filled(0.0) != 0.0))
+        np.testing.assert_array_equal(values[~valid], 0.0)
+        np.testing.assert_array_equal(values[valid].astype(np.float32), band.compressed())
