@@ -184,6 +184,12 @@ class Model(ABC):
     #: then acts on the tangential momentum, of length ``(|m|^2 + (grad b . m)^2)^(1/2)`` for
     #: the map momentum ``m`` (:mod:`conslaw_models.savage_hutter_terrain`); None: ``|m|``.
     tangent_slope_rows: ClassVar[tuple[int, int] | None] = None
+    #: Whether a cell whose values are all 0 and whose neighbours' are too stays so in a step
+    #: (no flux, no source and no resistance at the empty state: no mass appears from nothing).
+    #: The compiled 2D kernels then skip rows far from any material ("Cost that follows the
+    #: flow", docs/design.md); a model with a source at the empty state (rain, a sink) must
+    #: leave it False.
+    empty_stays_empty: ClassVar[bool] = False
     #: Sign of every coefficient row in the mirror image across a y wall; None: all +1.
     aux_reflect_signs_y: ClassVar[tuple[float, ...] | None] = None
     #: Optional ``coefficients_2d_point(q, slope_x, slope_y, aux, params)``: a 2D model's

@@ -348,6 +348,7 @@ class SavageHutter2D(TwoEarthPressures, TwoDimensionalRows, DepthAveragedModel):
     aux_names = ("sin_zeta", "cos_zeta", "lambda_kappa", "K_x", "K_y")
     aux_reflect_signs = (-1.0, 1.0, 1.0, 1.0, 1.0)
     varying_aux_rows: ClassVar[tuple[int, ...]] = (KX, KY)
+    empty_stays_empty: ClassVar[bool] = True
     aux_layout_2d = "along-x"
     has_source = True
     Parameters = SavageHutterParameters

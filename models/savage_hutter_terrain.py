@@ -421,6 +421,7 @@ class SavageHutterTerrain(TwoEarthPressures, TwoDimensionalRows, DepthAveragedMo
         1.0, -1.0, 1.0, 1.0, -1.0, 1.0, 1.0, 1.0, -1.0, -1.0, 1.0, -1.0, 1.0, 1.0, 1.0,
     )  # fmt: skip
     varying_aux_rows: ClassVar[tuple[int, ...]] = (KX, KY)
+    empty_stays_empty: ClassVar[bool] = True
     aux_layout_2d = "field"
     tangent_slope_rows: ClassVar[tuple[int, int] | None] = (SLOPE_X, SLOPE_Y)
     has_source = True

@@ -197,6 +197,7 @@ class ShallowWater2D(TwoDimensionalRows, WaterOverBed):
     has_source = True
     surface_aux = (BED, BED_X)
     surface_aux_y: ClassVar[tuple[int, int] | None] = (BED_Y, BED_TWIST)
+    empty_stays_empty: ClassVar[bool] = True
     aux_layout_2d = "bed"
     Parameters = ShallowWater2DParameters
     initial_kinds: ClassVar[dict[str, tuple[tuple[str, ...], dict[str, Any], str]]] = {

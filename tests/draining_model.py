@@ -22,3 +22,4 @@ class Draining2D(SavageHutter2D):
     name = "draining-2d"
     description = "2D chute with a depth sink (test model)"
     source_point = staticmethod(draining_source_point)
+    empty_stays_empty = False  # its sink acts on empty cells too

@@ -13,11 +13,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import example, given, settings, strategies as st
 
 from conslaw import registry
 from conslaw.grid2d import Grid2D
 from conslaw.schemes.jiang_tadmor import JiangTadmorReference
+from conslaw.schemes.jiang_tadmor.reference import GHOSTS
 from conslaw.schemes.jiang_tadmor.scheme import JiangTadmor, compiles, on_field, over_bed
 from conslaw.terrain import dem_from_function, write_dem
 from conslaw_models.savage_hutter_2d import SavageHutter2D
@@ -27,8 +28,9 @@ RECONSTRUCTORS = registry.reconstructors.names()
 KINDS = ("periodic", "outflow", "wall", "inflow")
 #: The state an inflow side feeds in (depth, both momenta).
 INFLOW_STATE = (1.5, 6.0, -1.0)
-#: Domain of the terrain grids (metres) and their cells.
-X_RANGE, Y_RANGE, SHAPE = (-100.0, 100.0), (-80.0, 80.0), (16, 20)
+#: Domain of the terrain grids (metres) and their cells (10 m along x, 12.3 m along y: a swap
+#: of dx and dy does not pass).
+X_RANGE, Y_RANGE, SHAPE = (-100.0, 100.0), (-80.0, 80.0), (13, 20)
 
 
 def sides(x_kind: str, y_kind: str) -> dict[str, str]:
@@ -117,6 +119,10 @@ def assert_same_pair(model: object, reconstructor: str, grid: Grid2D, boundaries
     side_kinds=st.tuples(st.sampled_from(KINDS), st.sampled_from(KINDS)),
     courant=st.floats(0.05, 0.45),
 )
+@example(
+    seed=1, kind="dem", delta=0.0, phi_above=0.0, rule="savage-hutter", dry=0.3, films=0.2,
+    speed=20.0, reconstructor="mc", side_kinds=("outflow", "wall"), courant=0.45,
+)  # fmt: skip
 def test_a_terrain_step_pair_is_the_reference_pair(
     dem_path: Path,
     seed: int,
@@ -176,7 +182,7 @@ def test_a_chute_step_pair_is_the_reference_pair(
     admissible range of its angles: the compiled step pair is the reference's bit for bit."""
     phi = delta + phi_above * (89.9 - delta)
     rng = np.random.default_rng(seed)
-    grid = Grid2D.from_bounds(0.0, 10.0, 20, -4.0, 4.0, 16)
+    grid = Grid2D.from_bounds(0.0, 10.0, 20, -4.0, 4.0, 13)
     model = SavageHutter2D(chute=chute, zeta=zeta, phi=phi, delta=delta, earth_pressure=rule)
     q = random_flow(rng, grid.shape, dry, films, 3.0)
     assert_same_pair(model, reconstructor, grid, sides(x_kind, y_kind), q, courant)
@@ -242,3 +248,61 @@ def test_which_models_take_the_field_kernels(dem_path: Path) -> None:
         assert compiles(model) and on_field(model) and not over_bed(model)
     assert compiles(SavageHutter2D()) and on_field(SavageHutter2D())
     assert not on_field(ShallowWater2D()) and not on_field(ShallowWater2D(bump_height=0.2))
+
+
+@settings(max_examples=30, deadline=None)
+@given(
+    seed=st.integers(0, 2**32 - 1),
+    kind=st.sampled_from(["plane", "bowl", "dem"]),
+    band=st.tuples(st.integers(0, 23), st.integers(1, 6)),
+    reconstructor=st.sampled_from(RECONSTRUCTORS),
+    side_kinds=st.tuples(st.sampled_from(KINDS), st.sampled_from(KINDS)),
+)
+def test_empty_rows_are_skipped_and_the_pair_is_the_reference_pair(
+    dem_path: Path,
+    seed: int,
+    kind: str,
+    band: tuple[int, int],
+    reconstructor: str,
+    side_kinds: tuple[str, str],
+) -> None:
+    """Material in a band of rows (at an edge, in the middle, wrapping a periodic side) and
+    nothing elsewhere: the kernels compute only the rows a step can reach from it
+    (``active_rows``: fewer than all for a narrow band away from an inflow side) and the step
+    pair is still the reference's bit for bit (an empty cell of a model whose empty cells stay
+    empty has no flux, source or resistance)."""
+    rng = np.random.default_rng(seed)
+    grid = Grid2D.from_bounds(*X_RANGE, 16, *Y_RANGE, 24)
+    model = terrain_model(kind, 35.0, 25.0, "savage-hutter", dem_path).on_grid_2d(grid)
+    q = random_flow(rng, grid.shape, 0.2, 0.2, 15.0)
+    first, width = band
+    rows = (first + np.arange(width)) % grid.shape[0]
+    q[:, np.setdiff1d(np.arange(grid.shape[0]), rows)] = 0.0
+    boundaries = sides(*side_kinds)
+    limiter = registry.reconstructors.get(reconstructor)
+    compiled = JiangTadmor(
+        model, limiter, grid, boundaries, threads=1, inflow=inflow_of(boundaries)
+    )
+    compiled._load(q, 0)
+    kernels = compiled.kernels
+    step = kernels.Step(GHOSTS - 1, *compiled.shapes[True], 0.1, grid.dx, grid.dy, 1.0)
+    start, stop = kernels.active_rows(compiled.states[0], step)
+    assert 0 <= start <= stop <= step.rows
+    if side_kinds[1] not in ("inflow", "periodic") and side_kinds[0] != "inflow" and width <= 4:
+        assert stop - start < step.rows
+    assert_same_pair(model, reconstructor, grid, boundaries, q, 0.45)
+
+
+def test_a_model_whose_empty_cells_change_computes_every_row() -> None:
+    """A model with a sink at the empty state (``empty_stays_empty`` False) steps every row,
+    empty or not."""
+    from draining_model import Draining2D
+
+    assert not Draining2D.empty_stays_empty and SavageHutter2D.empty_stays_empty
+    grid = Grid2D.from_bounds(0.0, 10.0, 20, -4.0, 4.0, 12)
+    limiter = registry.reconstructors.get("mc")
+    compiled = JiangTadmor(Draining2D(), limiter, grid, sides("outflow", "outflow"), threads=1)
+    compiled._load(np.zeros((3, *grid.shape)), 0)
+    kernels = compiled.kernels
+    step = kernels.Step(GHOSTS - 1, *compiled.shapes[True], 0.1, grid.dx, grid.dy, 1.0)
+    assert kernels.active_rows(compiled.states[0], step) == (0, step.rows)

@@ -62,7 +62,8 @@ from conslaw.schemes.jiang_tadmor.kernel_template import (
     _slope_point,
     average_row,
     bounded_momentum_slope,
-    chunk_rows,
+    active_rows,
+    chunk_span,
     clamp_film,
     correct_cell,
     col,
@@ -544,8 +545,11 @@ def step_family_bed(w, out, work, statistics, params, step, bed):
     """One Jiang–Tadmor step over a bed from the padded family ``w`` (``bed`` filled by
     :func:`prepare_bed`) into the real cells of ``out``, as the flat kernel's ``step_family``."""
     count = step.columns + 1
+    active_start, active_stop = active_rows(w, step)
     for chunk in prange(work.shape[0]):
-        start, stop = chunk_rows(step.rows, work.shape[0], chunk)
+        start, stop = chunk_span(
+            step, work.shape[0], chunk, active_start, active_stop, out, statistics
+        )
         slots = work[chunk]
         if start < stop:
             predict_row_bed(w, bed, step.first + start, step.first, count, step, params, slots[0])

@@ -1,5 +1,5 @@
 """Template: the compiled Jiang–Tadmor step for a depth-averaged model with coefficients at every
-point, a source at the quarter points and a resistance (Savage–Hutter on a chute with a
+point, a source at the quarter points and optionally a resistance (Savage–Hutter on a chute with a
 cross-slope direction, ``aux_layout_2d = "along-x"``, and on terrain, ``"field"``): the formula
 of :meth:`JiangTadmorReference.step <conslaw.schemes.jiang_tadmor.reference.JiangTadmorReference.
 step>` without a bed.
@@ -56,7 +56,8 @@ from conslaw.schemes.jiang_tadmor.kernel_template import (
     _source_point,
     HAS_RESISTANCE,
     average_row,
-    chunk_rows,
+    active_rows,
+    chunk_span,
     clamp_film,
     col,
     correct_cell,
@@ -374,8 +375,11 @@ def step_family_field(w, out, work, statistics, params, step, field):
     """One Jiang–Tadmor step of this model from the padded family ``w`` into the real cells of
     ``out``, as the flat kernel's ``step_family``, rows in ``work.shape[0]`` chunks."""
     count = step.columns + 1
+    active_start, active_stop = active_rows(w, step)
     for chunk in prange(work.shape[0]):
-        start, stop = chunk_rows(step.rows, work.shape[0], chunk)
+        start, stop = chunk_span(
+            step, work.shape[0], chunk, active_start, active_stop, out, statistics
+        )
         slots = work[chunk]
         if start < stop:
             predict_row_field(

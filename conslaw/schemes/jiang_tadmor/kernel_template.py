@@ -77,6 +77,7 @@ DRY_DEPTH = 0.0
 CUSTOM_SLOPES = False
 HAS_RESISTANCE = False
 SURFACE_METRIC = False
+SKIP_EMPTY = False
 # --- end bindings ---
 
 #: Ghost cells per side: the slope stencil's half width and the staggered shift.
@@ -723,14 +724,84 @@ def chunk_rows(rows, chunks, chunk):
     return start, min(rows, start + per_chunk)
 
 
+#: Source rows on each side of the two a new row averages that its value can read (the slopes
+#: across rows reach two, the film window one; one more for safety).
+READ_HALO = 3
+
+
+@njit(cache=True, error_model="numpy")
+def occupied_rows(w):
+    """The first and the last padded row of ``w`` holding a value other than 0 (its ghost rows
+    included), or ``(0, -1)`` if every value is 0."""
+    rows = w.shape[1]
+    low, high = rows, -1
+    for r in range(rows):
+        if np.any(w[:, r, :] != 0.0):
+            low = r
+            break
+    for r in range(rows - 1, low - 1, -1):
+        if np.any(w[:, r, :] != 0.0):
+            high = r
+            break
+    return (0, -1) if high < 0 else (low, high)
+
+
+@njit(cache=True, error_model="numpy")
+def active_rows(w, step):
+    """The range ``[low, high)`` of new rows a step from padded family ``w`` computes: for a
+    model whose empty cells stay empty (``Model.empty_stays_empty``, ``SKIP_EMPTY``), those
+    whose source rows (``step.first + k - READ_HALO`` to ``step.first + k + 1 + READ_HALO``)
+    hold any value, every other new row being empty (docs/design.md, "Cost that follows the
+    flow"); every row for any other model."""
+    if not SKIP_EMPTY:
+        return 0, step.rows
+    low, high = occupied_rows(w)
+    if high < low:
+        return 0, 0
+    start = max(0, low - step.first - 1 - READ_HALO)
+    stop = min(step.rows, high - step.first + READ_HALO + 1)
+    return start, max(start, stop)
+
+
+@njit(cache=True, error_model="numpy")
+def clear_rows(out, statistics, start, stop, columns):
+    """New rows ``start`` to ``stop`` (exclusive) empty: their values 0 and their statistics
+    those of a row of empty cells (no speed, depth 0)."""
+    for k in range(start, stop):
+        for v in range(NV):
+            for j in range(columns):
+                out[v, NG + k, NG + j] = 0.0
+        statistics[k, SPEED_X] = 0.0
+        statistics[k, SPEED_Y] = 0.0
+        statistics[k, LOWEST] = 0.0
+        statistics[k, DEEPEST] = 0.0
+
+
+@njit(cache=True, error_model="numpy")
+def chunk_span(step, chunks, chunk, low, high, out, statistics):
+    """The rows of chunk ``chunk`` of ``chunks`` (:func:`chunk_rows`) within the active range
+    ``[low, high)``, after clearing its rows outside it (:func:`clear_rows`)."""
+    start, stop = chunk_rows(step.rows, chunks, chunk)
+    first, last = max(start, low), min(stop, high)
+    if last <= first:
+        clear_rows(out, statistics, start, stop, step.columns)
+        return first, first
+    clear_rows(out, statistics, start, first, step.columns)
+    clear_rows(out, statistics, last, stop, step.columns)
+    return first, last
+
+
 @njit(cache=True, parallel=True, error_model="numpy")
 def step_family(w, out, work, statistics, params, step):
     """One Jiang–Tadmor step from the padded family ``w`` into the real cells of ``out`` (its
     ghosts are left to :func:`fill_ghosts`), with each new row's statistics
     (:func:`row_statistics`) in ``statistics``; the rows in ``work.shape[0]`` chunks across the
     threads."""
+    active_start, active_stop = active_rows(w, step)
     for chunk in prange(work.shape[0]):
-        start, stop = chunk_rows(step.rows, work.shape[0], chunk)
+        start, stop = chunk_span(
+            step, work.shape[0], chunk, active_start, active_stop, out, statistics
+        )
         slots = work[chunk]
         if start < stop:
             predict_row(w, step.first + start, step.first, step.columns + 1, step, params, slots[0])

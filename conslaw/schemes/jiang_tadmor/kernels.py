@@ -63,6 +63,7 @@ def jt_kernels(model: Model, reconstructor: Reconstructor) -> ModuleType:
         "CUSTOM_SLOPES": custom,
         "HAS_RESISTANCE": bool(uses["resistance"]),
         "SURFACE_METRIC": model.tangent_slope_rows is not None,
+        "SKIP_EMPTY": bool(model.empty_stays_empty) and model.depth_index is not None,
     }
     return generate(TEMPLATE, bindings, constants)  # type: ignore[arg-type]
 
@@ -124,9 +125,9 @@ def varying_rows(model: Model) -> tuple[int, int] | None:
 
 def jt_field_kernels(model: Model, reconstructor: Reconstructor) -> ModuleType:
     """The Jiang–Tadmor kernels of a 2D depth-averaged model with coefficients at every point, a
-    source and a resistance: ``field_kernel_template.py`` with its import of the flat template
-    redirected to :func:`jt_kernels` of the same model and reconstructor, and the model's source,
-    resistance and coefficient hooks bound.
+    source and optionally a resistance: ``field_kernel_template.py`` with its import of the flat
+    template redirected to :func:`jt_kernels` of the same model and reconstructor (which binds
+    the source and the resistance), and the model's 2D coefficient hooks bound.
 
     Parameters
     ----------

@@ -74,10 +74,10 @@ def compiles(model: Model) -> bool:
     Returns
     -------
     bool
-        True for a model with coefficients at every point, a source and a resistance
+        True for a model with coefficients at every point and a source, with or without a resistance
         (:func:`on_field`); otherwise if it has no resistance and no coefficients of its own, and
-        either no bed (no source, no well-balanced source, no surface reconstruction) or all
-        three of a bed over which the depth is reconstructed from the surface (:func:`over_bed`).
+        either no bed (no source, no well-balanced source, no surface reconstruction) or all three
+        of a bed over which the depth is reconstructed from the surface (:func:`over_bed`).
     """
     if on_field(model):
         return True
@@ -100,8 +100,10 @@ def on_field(model: Model) -> bool:
     (:func:`~conslaw.schemes.jiang_tadmor.kernels.jt_field_kernels`: Savage–Hutter on a chute
     with a cross-slope direction or on terrain): a depth and both momenta, a source at the
     quarter points (no well-balanced source, no surface reconstruction, no range of
-    coefficients at rest), coefficients laid out ``along-x`` or over the ``field``, and the rows
-    it sets per cell consecutive.
+    coefficients at rest), coefficients laid out ``along-x`` or over the ``field``, the 2D hooks
+    of the coefficients it sets per cell and per staggered cell (``coefficients_2d_point``,
+    ``corner_coefficients_point``) if it sets any, and the rows it sets per cell consecutive. A
+    resistance is optional.
 
     Parameters
     ----------
@@ -113,8 +115,12 @@ def on_field(model: Model) -> bool:
     bool
     """
     uses = model.capabilities()
+    hooks_2d = (not uses["dynamic_coefficients"] or model.coefficients_2d_point is not None) and (
+        not uses["interface_coefficients"] or model.corner_coefficients_point is not None
+    )
     return (
-        uses["source"]
+        hooks_2d
+        and uses["source"]
         and not any(uses[key] for key in ("balanced_source", "surface", "rest_coefficients"))
         and model.n_aux > 0
         and model.aux_layout_2d in ("along-x", "field")
@@ -318,11 +324,12 @@ class JiangTadmor:
         self.field_kernels = jt_field_kernels(self.model, reconstructor)
         self.work = np.zeros(self.field_kernels.field_work_shape(self.chunks, columns))
         reference = self.reference
+        centres = {s: cell_major(reference.family_aux_padded(s)) for s in (False, True)}
         self.fields = {
             s: self.field_kernels.Field(
-                cell_major(reference.family_aux_padded(s)),
+                centres[s],
                 *(cell_major(quarter) for quarter in reference.quarter_aux_padded(s)),
-                cell_major(reference.family_aux_padded(not s)),
+                centres[not s],
             )
             for s in (False, True)
         }
