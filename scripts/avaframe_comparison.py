@@ -30,6 +30,18 @@ seconds, simulated end time, stop reason). Step 2 writes ``conslaw_scene.toml`` 
 in ``OUT.log``, its wall clock in ``OUT.seconds``) and prints the markdown table (also to
 ``--table``).
 
+The timing of docs/validation.md ("The hockey stick at AvaFrame's HS defaults, timed"), in the
+project's venv, on a topography of ``scripts/avaframe_topographies.py`` (:func:`timing`)::
+
+    python scripts/avaframe_comparison.py timing --topography /tmp/avatopo/HS \\
+        --dir /tmp/avatime/run --rounds 2 --table /tmp/avatime/table.md
+
+conslaw at twice the DEM's cell size first (it warms the kernel cache and is the
+grid-independence run), then A B rounds: com1DFA (``avaframe-topography`` through
+``--avaframe-python``, default ``/tmp/avaenv/bin/python``) and ``conslaw run`` on the DEM's own
+cells, both stopping at rest (1 % of the peak kinetic energy; conslaw's outputs every
+``--interval`` = 5 s), with the load averages before and after each run.
+
 Only the standard library and numpy are imported at the top, so the file runs in both
 environments; ``avaframe`` is imported by step 1 only, ``conslaw``, ``rasterio`` and
 ``shapely`` by step 2 only.
@@ -40,6 +52,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import re
 import subprocess
 import sys
@@ -84,6 +97,8 @@ THRESHOLDS = (0.01, 0.1)
 #: conslaw's simulated time (s), with an output every 10 s: longer than AvaFrame's stop (73.6 s
 #: with avaframe 2.1); conslaw's flow is at rest by 80 s (:func:`conslaw_stop_time`).
 CONSLAW_T_END = 90.0
+#: com1DFA's default ``tEnd`` (s): the cap of a run that stops at rest.
+AVAFRAME_T_END = 400.0
 
 
 def _avaframe_inputs(folder: Path) -> None:
@@ -138,12 +153,21 @@ def run_avaframe(folder: Path) -> dict[str, Any]:
         ``version``, ``seconds`` (wall clock of ``com1DFAMain``, plots and report off),
         ``t_end_s`` (simulated time at the stop) and ``stop`` (AvaFrame's reason).
     """
+    _avaframe_inputs(folder)
+    run = _com1dfa(folder)
+    run.update({"topo": TOPO, "release": RELEASE})
+    (folder / "avaframe_run.json").write_text(json.dumps(run, indent=2) + "\n")
+    return run
+
+
+def _com1dfa(folder: Path) -> dict[str, Any]:
+    """com1DFA with :func:`_avaframe_config` on the inputs in ``folder``, timed; the keys of
+    ``avaframe_run.json`` but the inputs'."""
     from importlib.metadata import version
 
     from avaframe.com1DFA import com1DFA
     from avaframe.in3Utils import cfgUtils
 
-    _avaframe_inputs(folder)
     main = cfgUtils.getGeneralConfig()
     main["MAIN"]["avalancheDir"] = str(folder)
     main["FLAGS"]["savePlot"] = "False"
@@ -158,10 +182,41 @@ def run_avaframe(folder: Path) -> dict[str, Any]:
         "t_end_s": float(parameters["Process run time [s]"]),
         "stop": parameters["Stop criterion"],
         "compute_seconds": float(parameters["Computation time [s]"]),
-        "topo": TOPO,
-        "release": RELEASE,
         "mucoulomb": math.tan(math.radians(DELTA)),
     }
+    return run
+
+
+def run_avaframe_topography(folder: Path, topography: Path) -> dict[str, Any]:
+    """com1DFA (:func:`_avaframe_config`) on a topography of ``scripts/avaframe_topographies.py``
+    (its ``DEM_*_Topo.asc`` and ``release1*.shp``, copied into AvaFrame's folder layout in
+    ``folder``, emptied first); write ``avaframe_run.json``.
+
+    Parameters
+    ----------
+    folder : Path
+        The avalanche directory.
+    topography : Path
+        One topography's folder, e.g. ``/tmp/avatopo/HS``.
+
+    Returns
+    -------
+    dict
+        As :func:`run_avaframe`, with ``dem_file`` and ``release_file`` instead of the
+        generator's settings.
+    """
+    import shutil
+
+    from avaframe.in3Utils import initializeProject
+
+    initializeProject.initializeFolderStruct(str(folder), removeExisting=True)
+    dem = _one(topography, "DEM_*_Topo.asc")
+    shutil.copyfile(dem, folder / "Inputs" / dem.name)
+    release = _one(topography, "release1*.shp")
+    for suffix in (".shp", ".shx", ".dbf"):
+        shutil.copyfile(release.with_suffix(suffix), folder / "Inputs" / "REL" / f"release{suffix}")
+    run = _com1dfa(folder)
+    run.update({"dem_file": str(dem), "release_file": str(release)})
     (folder / "avaframe_run.json").write_text(json.dumps(run, indent=2) + "\n")
     return run
 
@@ -330,16 +385,31 @@ def centre_of_mass(thickness: Raster, dem: Raster) -> tuple[float, float, float]
     )
 
 
-def conslaw_scene(folder: Path, dem_file: Path, release_file: Path) -> Path:
-    """Write ``conslaw_scene.toml`` into ``folder``: ``savage-hutter-terrain`` on the DEM's own
-    cells, ``delta = phi = DELTA``, isotropic pressure, the release polygon ``THICKNESS`` thick
-    normal to the slope, outflow sides, :data:`CONSLAW_T_END` seconds.
+def conslaw_scene(
+    folder: Path,
+    dem_file: Path,
+    release_file: Path,
+    cell: float | None = None,
+    at_rest: float | None = None,
+    name: str = "conslaw_scene",
+) -> Path:
+    """Write ``NAME.toml`` into ``folder``: ``savage-hutter-terrain`` on the DEM's own cells,
+    ``delta = phi = DELTA``, isotropic pressure, the release polygon ``THICKNESS`` thick normal
+    to the slope, outflow sides, :data:`CONSLAW_T_END` seconds with an output every 10 s.
 
     Parameters
     ----------
     folder : Path
     dem_file, release_file : Path
         AvaFrame's generated DEM and the release shapefile of step 1.
+    cell : float, optional
+        Cells of this size (m) over the extent of the DEM's cell centres (a multiple of the
+        size) instead of the DEM's own cells.
+    at_rest : float, optional
+        Stop at rest (``[stop] at_rest``, kinetic energy 1 % of its peak at an output time) with
+        an output every ``at_rest`` seconds and AvaFrame's ``tEnd`` (400 s) as the cap.
+    name : str
+        The scene file's stem.
 
     Returns
     -------
@@ -350,19 +420,40 @@ def conslaw_scene(folder: Path, dem_file: Path, release_file: Path) -> Path:
 
     dem = read_raster(dem_file)
     half = 0.5 * dem.cell
-    scene = {
-        "description": "AvaFrame's hockey stick (scripts/avaframe_comparison.py), Coulomb 30 deg",
-        "model": "savage-hutter-terrain",
-        "scheme": "jiang-tadmor",
-        "reconstructor": "mc",
-        "cfl": 0.45,
+    extent = {
         "n_cells": [dem.x.size, dem.y.size],
         "x_min": float(dem.x[0] - half),
         "x_max": float(dem.x[-1] + half),
         "y_min": float(dem.y[-1] - half),
         "y_max": float(dem.y[0] + half),
+    }
+    if cell is not None:
+        extent = {
+            "n_cells": [round((dem.x[-1] - dem.x[0]) / cell), round((dem.y[0] - dem.y[-1]) / cell)],
+            "x_min": float(dem.x[0]),
+            "x_max": float(dem.x[-1]),
+            "y_min": float(dem.y[-1]),
+            "y_max": float(dem.y[0]),
+        }
+    timing: dict[str, Any] = {
         "t_end": CONSLAW_T_END,
         "output_times": [float(t) for t in np.arange(10.0, CONSLAW_T_END + 1.0, 10.0)],
+    }
+    if at_rest is not None:
+        timing = {
+            "t_end": AVAFRAME_T_END,
+            "output_interval": at_rest,
+            "stop": {"at_rest": True, "energy_fraction": 0.01},
+        }
+    scene = {
+        "description": f"AvaFrame's {dem_file.stem} (scripts/avaframe_comparison.py), "
+        f"Coulomb {DELTA:g} deg",
+        "model": "savage-hutter-terrain",
+        "scheme": "jiang-tadmor",
+        "reconstructor": "mc",
+        "cfl": 0.45,
+        **extent,
+        **timing,
         "exact": False,
         "parameters": {
             "phi": DELTA,
@@ -381,7 +472,7 @@ def conslaw_scene(folder: Path, dem_file: Path, release_file: Path) -> Path:
         },
         "output": {"formats": ["npz", "geotiff"], "plot": False},
     }
-    path = folder / "conslaw_scene.toml"
+    path = folder / f"{name}.toml"
     path.write_text(tomli_w.dumps(scene))
     return path
 
@@ -646,22 +737,261 @@ def compare(folder: Path, out: Path, reuse: bool = False) -> str:
     return table(pair, ava, run, hazard)
 
 
+def on_cells(dem: Raster, raster: Raster) -> Raster:
+    """The DEM's values at the cell centres of ``raster`` (which must be DEM cell centres: a
+    coarser grid whose centres fall on the DEM's).
+
+    Parameters
+    ----------
+    dem, raster : Raster
+
+    Returns
+    -------
+    Raster
+        Elevation on ``raster``'s cells.
+    """
+    cols = np.rint((raster.x - dem.x[0]) / (dem.x[1] - dem.x[0])).astype(int)
+    rows = np.rint((raster.y - dem.y[0]) / (dem.y[1] - dem.y[0])).astype(int)
+    if not (np.allclose(dem.x[cols], raster.x) and np.allclose(dem.y[rows], raster.y)):
+        raise ValueError("the raster's cell centres are not the DEM's")
+    return Raster(dem.values[np.ix_(rows, cols)], raster.x, raster.y, raster.cell)
+
+
+def _load() -> str:
+    """The machine's load averages over 1, 5 and 15 minutes (``uptime``)."""
+    return " ".join(f"{value:.2f}" for value in os.getloadavg())
+
+
+def _conslaw_report(out: Path) -> dict[str, Any]:
+    """Steps, solve seconds (the summary's, which include loading or compiling the kernels:
+    ``load_seconds``), the stop time and whether the kernels were compiled, from the log of
+    :func:`run_conslaw` and the run's ``hazard.json``."""
+    log = out.with_suffix(".log").read_text()
+    report = re.search(
+        r"(\d+) steps, solve ([\d.]+) s(?: \(compile or cache load ([\d.]+) s)?", log
+    )
+    if report is None:
+        raise ValueError(f"no step count in {out.with_suffix('.log')}")
+    stop = json.loads((out / "hazard.json").read_text())["stop"]
+    return {
+        "steps": int(report[1]),
+        "solve_seconds": float(report[2]),
+        "load_seconds": float(report[3] or 0.0),
+        "stop_t": float(stop["t"]),
+        "rest_since": stop.get("rest_since"),
+        "stopped_at_rest": bool(stop["stopped_at_rest"]),
+        "compiled": "conslaw: compiling" in log,
+    }
+
+
+def timing(
+    topography: Path,
+    folder: Path,
+    rounds: int,
+    avaframe_python: Path,
+    interval: float,
+    reuse: bool = False,
+) -> str:
+    """AvaFrame's com1DFA and ``conslaw run`` on a generated topography at the DEM's own cells,
+    timed interleaved (A B A B ...), and the run-out measures of both and of conslaw at twice
+    the cell size; the markdown of the tables.
+
+    conslaw's compiled kernels are warmed first by the run at twice the cell size (which is
+    also its grid-independence run); every run is a fresh process. AvaFrame runs through
+    ``avaframe_python`` (its own venv) with ``avaframe-topography``; its time is
+    ``com1DFAMain``'s, as in :func:`run_avaframe`; conslaw's is the wall clock of the whole
+    ``conslaw run`` process (start-up, DEM, solve, hazard maps and states written; no plots)
+    and the solve time of its summary.
+
+    Parameters
+    ----------
+    topography : Path
+        One folder of ``scripts/avaframe_topographies.py``, e.g. ``/tmp/avatopo/HS``.
+    folder : Path
+        Work folder (scenes, runs, logs, ``timing.json``).
+    rounds : int
+        Rounds of one AvaFrame and one conslaw run.
+    avaframe_python : Path
+        The interpreter of AvaFrame's venv.
+    interval : float
+        conslaw's output interval (s), the resolution of its stop at rest.
+    reuse : bool
+        Only the tables, from the rounds in ``folder/timing.json`` (written after each round).
+
+    Returns
+    -------
+    str
+    """
+    folder.mkdir(parents=True, exist_ok=True)
+    dem_file = _one(topography, "DEM_*_Topo.asc")
+    release_file = _one(topography, "release1*.shp")
+    dem = read_raster(dem_file)
+    fine = conslaw_scene(folder, dem_file, release_file, at_rest=interval, name="scene_fine")
+    coarse = conslaw_scene(
+        folder, dem_file, release_file, 2.0 * dem.cell, at_rest=interval, name="scene_coarse"
+    )
+    if reuse:
+        saved = json.loads((folder / "timing.json").read_text())
+        return _timing_tables(saved, folder, dem, release_file)
+    record: dict[str, Any] = {"load_start": _load()}
+    seconds = run_conslaw(coarse, folder / "conslaw_coarse")
+    record["coarse"] = {"seconds": seconds, **_conslaw_report(folder / "conslaw_coarse")}
+    record["rounds"] = []
+    for index in range(rounds):
+        row: dict[str, Any] = {"round": index + 1, "load_before_avaframe": _load()}
+        ava_dir = folder / f"avaframe_{index + 1}"
+        command = [str(avaframe_python), __file__, "avaframe-topography", "--dir", str(ava_dir)]
+        started = time.perf_counter()
+        with (folder / f"avaframe_{index + 1}.log").open("w") as log:
+            subprocess.run(
+                [*command, "--topography", str(topography)],
+                check=True,
+                stdout=log,
+                stderr=subprocess.STDOUT,
+            )
+        row["avaframe_process_seconds"] = time.perf_counter() - started
+        row["avaframe"] = json.loads((ava_dir / "avaframe_run.json").read_text())
+        row["load_before_conslaw"] = _load()
+        out = folder / f"conslaw_fine_{index + 1}"
+        row["conslaw_seconds"] = run_conslaw(fine, out)
+        row["conslaw"] = _conslaw_report(out)
+        row["load_after"] = _load()
+        record["rounds"].append(row)
+        print(json.dumps(row), flush=True)
+        (folder / "timing.json").write_text(json.dumps(record, indent=2) + "\n")
+    return _timing_tables(record, folder, dem, release_file)
+
+
+def _timing_tables(record: dict[str, Any], folder: Path, dem: Raster, release_file: Path) -> str:
+    """The markdown of :func:`timing`: one row per round, then the measures."""
+    lines = [
+        "| round | load before A (1, 5, 15 min) | A: com1DFAMain (s) | A: process (s) | "
+        "A: stop (s) | load before B | B: conslaw run (s) | B: solve (s) | B: of it kernel "
+        "load (s) | B: steps | B: stop (s) | load after B | B solve / A | B run / A |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for row in record["rounds"]:
+        ava = row["avaframe"]
+        ours = _conslaw_report(folder / f"conslaw_fine_{row['round']}")
+        lines.append(
+            f"| {row['round']} | {row['load_before_avaframe']} | {ava['seconds']:.1f} | "
+            f"{row['avaframe_process_seconds']:.1f} | {ava['t_end_s']:.1f} | "
+            f"{row['load_before_conslaw']} | {row['conslaw_seconds']:.1f} | "
+            f"{ours['solve_seconds']:.1f} | {ours['load_seconds']:.1f}"
+            f"{' (compiled)' if ours['compiled'] else ''} | {ours['steps']} | "
+            f"{ours['stop_t']:g} | {row['load_after']} | "
+            f"{ours['solve_seconds'] / ava['seconds']:.2f} | "
+            f"{row['conslaw_seconds'] / ava['seconds']:.2f} |"
+        )
+    coarse = {
+        "seconds": record["coarse"]["seconds"],
+        **_conslaw_report(folder / "conslaw_coarse"),
+    }
+    last = record["rounds"][-1]
+    ava_dir, out = folder / f"avaframe_{last['round']}", folder / f"conslaw_fine_{last['round']}"
+    peaks = ava_dir / "Outputs" / "com1DFA" / "peakFiles"
+    release = release_mask(release_file, dem)
+    found = {
+        "AvaFrame": measure(
+            read_raster(_one(peaks, "*_pft.*")), read_raster(_one(peaks, "*_FT.*")), dem, release
+        ),
+        "conslaw fine": measure(
+            read_raster(out / "peak_depth.tif"), read_raster(out / "deposit.tif"), dem, release
+        ),
+    }
+    peak = read_raster(folder / "conslaw_coarse" / "peak_depth.tif")
+    grid = on_cells(dem, peak)
+    found["conslaw coarse"] = measure(
+        peak,
+        read_raster(folder / "conslaw_coarse" / "deposit.tif"),
+        grid,
+        release_mask(release_file, grid),
+    )
+    a, f, c = found["AvaFrame"], found["conslaw fine"], found["conslaw coarse"]
+    lines += [
+        "",
+        f"conslaw at {2 * dem.cell:g} m (the warm-up run): run {coarse['seconds']:.1f} s, solve "
+        f"{coarse['solve_seconds']:.1f} s (of it kernel "
+        f"{'compile' if coarse['compiled'] else 'load'} {coarse['load_seconds']:.1f} s), "
+        f"{coarse['steps']} steps, stop t = "
+        f"{coarse['stop_t']:g} s; AvaFrame {last['avaframe']['version']}, "
+        f"{last['avaframe']['stop']}; load at the start {record['load_start']}.",
+        "",
+        f"| measure (runout_metrics / measure) | AvaFrame | conslaw {dem.cell:g} m | conslaw "
+        f"{2 * dem.cell:g} m | {dem.cell:g} m - AvaFrame | {2 * dem.cell:g} m - {dem.cell:g} m |",
+        "|---|---|---|---|---|---|",
+    ]
+    keys = [
+        (f"{name}@{threshold}", f"{label}, >= {threshold:g} m", digits)
+        for threshold in THRESHOLDS
+        for name, label, digits in (
+            ("end_x", "run-out end x (m)", 1),
+            ("end_y", "run-out end y (m)", 1),
+            ("length_m", "run-out length from the release top (m)", 1),
+            ("alpha_deg", "travel angle (deg)", 2),
+            ("area_ha", "affected area (ha)", 2),
+        )
+    ]
+    keys += [
+        ("deposit_x", "deposit centre of mass x (m)", 1),
+        ("alpha_cm_deg", "centre-of-mass travel angle (deg)", 2),
+        ("max_peak", "largest peak flow thickness (m)", 2),
+    ]
+    for key, label, d in keys:
+        lines.append(
+            f"| {label} | {a[key]:.{d}f} | {f[key]:.{d}f} | {c[key]:.{d}f} | "
+            f"{f[key] - a[key]:+.{d}f} | {c[key] - f[key]:+.{d}f} |"
+        )
+    return "\n".join(lines) + "\n"
+
+
 def main() -> None:
     """Run the step named on the command line."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     steps = parser.add_subparsers(dest="step", required=True)
     first = steps.add_parser("avaframe", help="step 1, in AvaFrame's venv")
     first.add_argument("--dir", type=Path, required=True, help="avalanche directory (emptied)")
+    topo = steps.add_parser(
+        "avaframe-topography", help="com1DFA on a generated topography, in AvaFrame's venv"
+    )
+    topo.add_argument("--dir", type=Path, required=True, help="avalanche directory (emptied)")
+    topo.add_argument("--topography", type=Path, required=True, help="e.g. /tmp/avatopo/HS")
     second = steps.add_parser("compare", help="step 2, in the project's venv")
     second.add_argument("--dir", type=Path, required=True, help="step 1's avalanche directory")
     second.add_argument("--out", type=Path, required=True, help="conslaw's output folder")
     second.add_argument("--table", type=Path, help="also write the markdown here")
     second.add_argument("--reuse", action="store_true", help="take the conslaw run in --out")
+    timed = steps.add_parser(
+        "timing", help="com1DFA and conslaw run interleaved, timed, in the project's venv"
+    )
+    timed.add_argument("--topography", type=Path, required=True, help="e.g. /tmp/avatopo/HS")
+    timed.add_argument("--dir", type=Path, required=True, help="work folder")
+    timed.add_argument("--rounds", type=int, default=2, help="A B rounds (default 2)")
+    timed.add_argument(
+        "--avaframe-python", type=Path, default=Path("/tmp/avaenv/bin/python"), help="its venv"
+    )
+    timed.add_argument("--interval", type=float, default=5.0, help="conslaw's output interval")
+    timed.add_argument("--table", type=Path, help="also write the markdown here")
+    timed.add_argument("--reuse", action="store_true", help="tables from DIR/timing.json")
     args = parser.parse_args()
     if args.step == "avaframe":
         print(json.dumps(run_avaframe(args.dir.resolve()), indent=2))
         return
-    markdown = compare(args.dir.resolve(), args.out.resolve(), args.reuse)
+    if args.step == "avaframe-topography":
+        run = run_avaframe_topography(args.dir.resolve(), args.topography.resolve())
+        print(json.dumps(run, indent=2))
+        return
+    if args.step == "timing":
+        markdown = timing(
+            args.topography.resolve(),
+            args.dir.resolve(),
+            args.rounds,
+            args.avaframe_python,
+            args.interval,
+            args.reuse,
+        )
+    else:
+        markdown = compare(args.dir.resolve(), args.out.resolve(), args.reuse)
     if args.table is not None:
         args.table.write_text(markdown)
     print(markdown, end="")
