@@ -385,6 +385,42 @@ def centre_of_mass(thickness: Raster, dem: Raster) -> tuple[float, float, float]
     )
 
 
+def _scene_extent(dem: Any, cell: float | None) -> dict[str, Any]:
+    """The scene keys of the grid: the DEM's own cells, or cells of ``cell`` m over the extent
+    of its cell centres."""
+    if cell is None:
+        half = 0.5 * dem.cell
+        return {
+            "n_cells": [dem.x.size, dem.y.size],
+            "x_min": float(dem.x[0] - half),
+            "x_max": float(dem.x[-1] + half),
+            "y_min": float(dem.y[-1] - half),
+            "y_max": float(dem.y[0] + half),
+        }
+    return {
+        "n_cells": [round((dem.x[-1] - dem.x[0]) / cell), round((dem.y[0] - dem.y[-1]) / cell)],
+        "x_min": float(dem.x[0]),
+        "x_max": float(dem.x[-1]),
+        "y_min": float(dem.y[-1]),
+        "y_max": float(dem.y[0]),
+    }
+
+
+def _scene_timing(at_rest: float | None) -> dict[str, Any]:
+    """The scene keys of time: :data:`CONSLAW_T_END` with an output every 10 s, or a stop at
+    rest checked every ``at_rest`` seconds with AvaFrame's ``tEnd`` as the cap."""
+    if at_rest is None:
+        return {
+            "t_end": CONSLAW_T_END,
+            "output_times": [float(t) for t in np.arange(10.0, CONSLAW_T_END + 1.0, 10.0)],
+        }
+    return {
+        "t_end": AVAFRAME_T_END,
+        "output_interval": at_rest,
+        "stop": {"at_rest": True, "energy_fraction": 0.01},
+    }
+
+
 def conslaw_scene(
     folder: Path,
     dem_file: Path,
@@ -419,32 +455,7 @@ def conslaw_scene(
     import tomli_w
 
     dem = read_raster(dem_file)
-    half = 0.5 * dem.cell
-    extent = {
-        "n_cells": [dem.x.size, dem.y.size],
-        "x_min": float(dem.x[0] - half),
-        "x_max": float(dem.x[-1] + half),
-        "y_min": float(dem.y[-1] - half),
-        "y_max": float(dem.y[0] + half),
-    }
-    if cell is not None:
-        extent = {
-            "n_cells": [round((dem.x[-1] - dem.x[0]) / cell), round((dem.y[0] - dem.y[-1]) / cell)],
-            "x_min": float(dem.x[0]),
-            "x_max": float(dem.x[-1]),
-            "y_min": float(dem.y[-1]),
-            "y_max": float(dem.y[0]),
-        }
-    timing: dict[str, Any] = {
-        "t_end": CONSLAW_T_END,
-        "output_times": [float(t) for t in np.arange(10.0, CONSLAW_T_END + 1.0, 10.0)],
-    }
-    if at_rest is not None:
-        timing = {
-            "t_end": AVAFRAME_T_END,
-            "output_interval": at_rest,
-            "stop": {"at_rest": True, "energy_fraction": 0.01},
-        }
+    extent, timing = _scene_extent(dem, cell), _scene_timing(at_rest)
     scene = {
         "description": f"AvaFrame's {dem_file.stem} (scripts/avaframe_comparison.py), "
         f"Coulomb {DELTA:g} deg",
@@ -862,8 +873,8 @@ def timing(
     return _timing_tables(record, folder, dem, release_file)
 
 
-def _timing_tables(record: dict[str, Any], folder: Path, dem: Raster, release_file: Path) -> str:
-    """The markdown of :func:`timing`: one row per round, then the measures."""
+def _timing_round_lines(record: dict[str, Any], folder: Path) -> list[str]:
+    """The markdown table of :func:`timing`'s rounds, one row each."""
     lines = [
         "| round | load before A (1, 5, 15 min) | A: com1DFAMain (s) | A: process (s) | "
         "A: stop (s) | load before B | B: conslaw run (s) | B: solve (s) | B: of it kernel "
@@ -883,6 +894,12 @@ def _timing_tables(record: dict[str, Any], folder: Path, dem: Raster, release_fi
             f"{ours['solve_seconds'] / ava['seconds']:.2f} | "
             f"{row['conslaw_seconds'] / ava['seconds']:.2f} |"
         )
+    return lines
+
+
+def _timing_tables(record: dict[str, Any], folder: Path, dem: Raster, release_file: Path) -> str:
+    """The markdown of :func:`timing`: one row per round, then the measures."""
+    lines = _timing_round_lines(record, folder)
     coarse = {
         "seconds": record["coarse"]["seconds"],
         **_conslaw_report(folder / "conslaw_coarse"),
